@@ -1,0 +1,51 @@
+// effigi — the command-line front end. Subcommands live in their own files; this one
+// only dispatches and turns errors into one line and exit code 1.
+#include "commands.hpp"
+
+#include "effigi/core/error.hpp"
+#include "effigi/core/module.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+namespace {
+
+void usage() {
+    std::fprintf(stderr,
+                 "usage: effigi <command> [options]\n"
+                 "  render scene.xml [-o out.exr] [-D name=value]... [-t threads] [-v] [--seed N] [--no-progress]\n"
+                 "  list [tag]                 components known, by tag\n"
+                 "  info tag/name              parameters of one component\n"
+                 "  info --markdown            reference of every component (docs/components.md)\n"
+                 "  version\n");
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "help")) {
+        usage();
+        return argc < 2 ? 1 : 0;
+    }
+    std::vector<std::string> args(argv + 2, argv + argc);
+    std::string cmd = argv[1];
+    try {
+        if (cmd == "render") return effigi::app::render(args);
+        if (cmd == "list") return effigi::app::list(args);
+        if (cmd == "info") return effigi::app::info(args);
+        if (cmd == "version") {
+            std::printf("effigi %s\n", effigi::version());
+            return 0;
+        }
+        std::fprintf(stderr, "effigi: unknown command '%s'\n", cmd.c_str());
+        usage();
+        return 1;
+    } catch (const effigi::Error& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return 1;
+    }
+}

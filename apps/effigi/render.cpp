@@ -1,0 +1,106 @@
+// effigi render: load a scene, render it with its renderer, write the film.
+#include "commands.hpp"
+
+#include "effigi/core/log.hpp"
+#include "effigi/core/module.hpp"
+#include "effigi/interfaces/ifilm.hpp"
+#include "effigi/interfaces/isampler.hpp"
+#include "effigi/xml/loader.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <sys/resource.h>
+
+namespace effigi::app {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void onSigint(int) { g_stop.store(true); }
+
+std::string needValue(const std::vector<std::string>& args, std::size_t& i) {
+    if (i + 1 >= args.size()) fail("option {} needs a value", args[i]);
+    return args[++i];
+}
+
+long parseLong(const std::string& opt, const std::string& v) {
+    try {
+        std::size_t used = 0;
+        long r = std::stol(v, &used);
+        if (used == v.size()) return r;
+    } catch (const std::exception&) {
+    }
+    fail("option {} expects an integer, got '{}'", opt, v);
+}
+
+double peakMemoryMiB() {
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+} // namespace
+
+int render(const std::vector<std::string>& args) {
+    std::string scenePath, outPath;
+    xml::ParseOptions opt;
+    RenderControl control;
+    bool verbose = false;
+    for (std::size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a == "-o") outPath = needValue(args, i);
+        else if (a == "-D") {
+            std::string kv = needValue(args, i);
+            auto eq = kv.find('=');
+            if (eq == std::string::npos || eq == 0) fail("-D expects name=value, got '{}'", kv);
+            opt.defines[kv.substr(0, eq)] = kv.substr(eq + 1);
+        } else if (a == "-t") control.threads = int(parseLong(a, needValue(args, i)));
+        else if (a == "--seed") control.seed = std::uint64_t(parseLong(a, needValue(args, i)));
+        else if (a == "-v") verbose = true;
+        else if (a == "--no-progress") control.progress = false;
+        else if (!a.empty() && a[0] == '-') fail("render: unknown option '{}'", a);
+        else if (scenePath.empty()) scenePath = a;
+        else fail("render: more than one scene given ('{}', '{}')", scenePath, a);
+    }
+    if (scenePath.empty()) fail("render: no scene file given");
+    if (verbose) log::setLevel(log::Level::Info);
+    if (outPath.empty()) outPath = std::filesystem::path(scenePath).stem().string() + ".exr";
+
+    auto t0 = std::chrono::steady_clock::now();
+    std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
+    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    std::signal(SIGINT, onSigint);
+    control.stop = &g_stop;
+    RenderStats stats = scene->renderer().render(*scene, control);
+    std::signal(SIGINT, SIG_DFL);
+
+    IFilm& film = scene->camera().film();
+    FilmMetadata meta{{"effigi/version", version()},
+                      {"effigi/scene", std::filesystem::absolute(scenePath).string()},
+                      {"effigi/renderer", scene->renderer().typeName()},
+                      {"effigi/spp", std::to_string(scene->camera().sampler().samplesPerPixel())},
+                      {"effigi/samples", std::to_string(stats.samples)},
+                      {"effigi/seconds", fmt::format("{:.3f}", stats.seconds)},
+                      {"effigi/interrupted", stats.interrupted ? "true" : "false"}};
+    std::filesystem::path out(outPath);
+    if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+    for (const auto& f : film.write(out, meta)) std::printf("wrote %s\n", f.string().c_str());
+
+    if (verbose) {
+        std::fprintf(stderr, "modules loaded:\n");
+        for (const auto& m : Registry::instance().loadedModules()) std::fprintf(stderr, "  %s\n", m.c_str());
+    }
+    Vector2i size = film.size();
+    std::printf("%dx%d, %llu samples in %.2f s (load %.2f s): %.3f M samples/s, %llu NaN/Inf samples rejected, "
+                "peak memory %.0f MiB%s\n",
+                size.x, size.y, (unsigned long long)stats.samples, stats.seconds, loadSeconds,
+                stats.seconds > 0 ? double(stats.samples) / stats.seconds * 1e-6 : 0.0,
+                (unsigned long long)stats.rejectedSamples, peakMemoryMiB(),
+                stats.interrupted ? " (interrupted: partial image)" : "");
+    return stats.interrupted ? 130 : 0;
+}
+
+} // namespace effigi::app

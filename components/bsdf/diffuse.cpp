@@ -1,0 +1,76 @@
+// bsdf "diffuse" — ideal diffuse (Lambertian) reflection.
+//
+// Models a surface that scatters incident light equally into every direction of the
+// hemisphere above it: f(wo, wi) = ρ/π for wo and wi on the side of the shading
+// normal, zero otherwise. Like Mitsuba 3's `diffuse` it is ONE-SIDED: seen from below
+// the surface is black (wrap it in a two-sided adapter to reflect on both sides).
+// Sampling is cosine-weighted (Malley's method), so f·cos/pdf = ρ exactly.
+//
+// Parameters:
+//   reflectance  texture (reflectance spectrum, default 0.5)  albedo ρ in [0, 1]
+//
+// Reference: J. H. Lambert, Photometria (1760); pbrt-v4 §9.2 for the sampling.
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/ibsdf.hpp"
+#include "effigi/interfaces/itexture.hpp"
+#include "effigi/math/warp_functions.hpp"
+
+namespace effigi {
+namespace {
+
+class Diffuse final : public Implements<IBSDF> {
+public:
+    static Schema schema() {
+        Schema s("bsdf", "diffuse", "Ideal diffuse (Lambertian) reflection, one-sided.");
+        s.cite("J. H. Lambert, Photometria, 1760");
+        s.texture("reflectance", 0.5f, SpectrumKind::Reflectance,
+                  "Albedo ρ (spectrum or texture); f = ρ/π above the surface")
+            .range(0.0, 1.0);
+        return s;
+    }
+
+    explicit Diffuse(const Properties& p)
+        : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)) {}
+
+    std::uint32_t flags() const override { return BSDFReflection | BSDFDiffuse; }
+
+    SampledSpectrum f(const SurfaceInteraction& si, const Vector3f& wo, const Vector3f& wi,
+                      const SampledWavelengths& lambda, TransportMode) const override {
+        if (!(wo.z > 0.f && wi.z > 0.f)) return SampledSpectrum(0.f);
+        return m_reflectance->eval(si, lambda) * InvPi;
+    }
+
+    std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float, const Point2f& u,
+                                     SampledWavelengths& lambda, TransportMode) const override {
+        if (!(wo.z > 0.f)) return std::nullopt;
+        Vector3f wi = warp::squareToCosineHemisphere(u);
+        float pdf = warp::squareToCosineHemispherePdf(wi);
+        // The rim of the disk maps to wi.z = 0, whose density is zero: no usable sample.
+        if (!(pdf > 0.f)) return std::nullopt;
+        BSDFSample bs;
+        bs.f = m_reflectance->eval(si, lambda) * InvPi;
+        bs.wi = wi;
+        bs.pdf = pdf;
+        bs.flags = BSDFReflection | BSDFDiffuse;
+        return bs;
+    }
+
+    float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
+              TransportMode) const override {
+        if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
+        return warp::squareToCosineHemispherePdf(wi);
+    }
+
+    /// The hemispherical reflectance of a Lambertian surface is ρ for every wo.
+    SampledSpectrum albedo(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
+        return m_reflectance->eval(si, lambda);
+    }
+
+private:
+    Ref<ITexture> m_reflectance;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::Diffuse)

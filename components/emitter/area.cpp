@@ -1,0 +1,136 @@
+// emitter "area" — a diffuse area light: makes any shape it is nested in glow.
+//
+// Every point of the shape emits the same radiance L into the hemisphere of its
+// geometric normal; the back side is dark (ONE-SIDED, as Mitsuba 3's `area`). Direct
+// lighting asks the shape for a point sampled by solid angle as seen from the shaded
+// point (IShape::sampleDirection), so shapes with a better strategy than area
+// sampling (spheres: the visible cone) give less noise for free. Emission sampling
+// picks a point by area and a cosine-weighted direction about the normal.
+//
+// Parameters:
+//   radiance  texture (illuminant spectrum, default 1)  emitted radiance [W m^-2 sr^-1]
+//
+// Reference: pbrt-v4 §12.2 (diffuse area lights); Glassner's Spectrum (any geometry emits).
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/iemitter.hpp"
+#include "effigi/interfaces/ishape.hpp"
+#include "effigi/interfaces/itexture.hpp"
+#include "effigi/math/warp_functions.hpp"
+#include "effigi/spectral/cie.hpp"
+
+namespace effigi {
+namespace {
+
+/// Luminance Y (∫ L ȳ / ∫ ȳ) of a constant texture, read at 1 nm steps.
+float textureLuminance(const ITexture& tex) {
+    SurfaceInteraction si;
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < cie::TableSize; ++i) {
+        auto lambda = SampledWavelengths::constant(float(cie::TableStart + i));
+        num += double(tex.eval(si, lambda)[0]) * cie::Y[i];
+        den += cie::Y[i];
+    }
+    return den > 0.0 ? float(num / den) : 0.f;
+}
+
+class AreaEmitter final : public Implements<IEmitter> {
+public:
+    static Schema schema() {
+        Schema s("emitter", "area", "Diffuse area light: the shape it is nested in emits on its front side.");
+        s.cite("M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §12.2");
+        s.texture("radiance", 1.f, SpectrumKind::Illuminant,
+                  "Emitted radiance (spectrum or texture), on the side of the geometric normal")
+            .atLeast(0.0)
+            .withUnit("W m^-2 sr^-1");
+        return s;
+    }
+
+    explicit AreaEmitter(const Properties& p) : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)) {
+        // power() only needs a bound for choosing among lights: the exact luminance of a
+        // constant radiance, the texture's maximum otherwise.
+        m_luminance = m_radiance->isConstant() ? textureLuminance(*m_radiance) : m_radiance->maxValue();
+    }
+
+    std::uint32_t flags() const override { return EmitterSurface; }
+
+    void attach(const IShape* shape) override {
+        // Only store it: the shape may not be fully built yet (no area, no BSDF).
+        if (!shape) fail("{}: attach() needs a shape", name());
+        if (m_shape && m_shape != shape) fail("{} cannot be nested in two shapes", name());
+        m_shape = shape;
+    }
+
+    void preprocess(const BBox3f&) override {
+        if (!m_shape) fail("area emitter must be nested in a shape");
+    }
+
+    SampledSpectrum eval(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
+        if (!(dot(si.n, si.wo) > 0.f)) return SampledSpectrum(0.f);
+        return m_radiance->eval(si, lambda);
+    }
+
+    EmitterSample sampleDirect(const Point3f& ref, const Point2f& u,
+                               const SampledWavelengths& lambda) const override {
+        EmitterSample es;
+        if (!m_shape) return es;  // pdf 0: never attached (preprocess reports it)
+        DirectionSample ds = m_shape->sampleDirection(ref, u);
+        es.p = ds.p;
+        es.n = ds.n;
+        es.wi = ds.wi;
+        es.dist = ds.dist;
+        // The back side emits nothing; a zero pdf tells the caller to skip the sample.
+        if (!(ds.pdf > 0.f) || !std::isfinite(ds.pdf) || !(dot(ds.n, -ds.wi) > 0.f)) return es;
+        es.pdf = ds.pdf;
+        es.L = m_radiance->eval(pointOf(ds, -ds.wi), lambda);
+        return es;
+    }
+
+    float pdfDirect(const Point3f& ref, const SurfaceInteraction& si) const override {
+        if (!m_shape || !(dot(si.n, si.wo) > 0.f)) return 0.f;
+        return m_shape->pdfDirection(ref, si);
+    }
+
+    EmissionSample sampleEmission(const Point2f& uPos, const Point2f& uDir,
+                                  const SampledWavelengths& lambda) const override {
+        EmissionSample es;
+        if (!m_shape) return es;
+        PositionSample ps = m_shape->samplePosition(uPos);
+        Vector3f local = warp::squareToCosineHemisphere(uDir);
+        Frame frame(ps.n);
+        Vector3f d = frame.toWorld(local);
+        es.ray = Ray{offsetRayOrigin(ps.p, ps.n, d), d, Infinity};
+        es.n = ps.n;
+        es.pdfPosition = ps.pdf;
+        es.pdfDirection = warp::squareToCosineHemispherePdf(local);
+        if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f)) return es;
+        es.L = m_radiance->eval(pointOf(ps, d), lambda);
+        return es;
+    }
+
+    /// Φ = π · A · L for a Lambertian emitter of constant radiance L (luminance-weighted).
+    float power() const override { return m_shape ? Pi * m_shape->area() * m_luminance : 0.f; }
+
+private:
+    std::string name() const { return typeName().empty() ? std::string("emitter 'area'") : typeName(); }
+
+    /// The surface point a texture is evaluated at.
+    SurfaceInteraction pointOf(const PositionSample& ps, const Vector3f& wo) const {
+        SurfaceInteraction si;
+        si.shape = m_shape;
+        si.p = ps.p;
+        si.n = ps.n;
+        si.shading = Frame(ps.n);
+        si.uv = ps.uv;
+        si.wo = wo;
+        return si;
+    }
+
+    Ref<ITexture> m_radiance;
+    const IShape* m_shape = nullptr;
+    float m_luminance = 0.f;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::AreaEmitter)

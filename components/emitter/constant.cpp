@@ -1,0 +1,109 @@
+// emitter "constant" — a uniform environment: the same radiance from every direction.
+//
+// Models a sky of constant radiance L surrounding the scene at infinity (a "white
+// furnace" when L = 1 and every BSDF has albedo 1). An unoccluded surface facing it
+// receives irradiance E = π·L. Direct lighting samples directions uniformly over the
+// sphere; emission samples start on a disk outside the scene's bounding sphere so that
+// light tracing covers the whole scene with parallel rays.
+//
+// Parameters:
+//   radiance  spectrum (illuminant, default 1)  radiance of the environment [W m^-2 sr^-1]
+//
+// Reference: pbrt-v4 §12.5.1 (uniform infinite lights).
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/iemitter.hpp"
+#include "effigi/math/warp_functions.hpp"
+#include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/spectrum.hpp"
+
+namespace effigi {
+namespace {
+
+/// Luminance Y (∫ S ȳ / ∫ ȳ) of a spectrum, at 1 nm steps.
+float spectrumLuminance(const Spectrum& s) {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < cie::TableSize; ++i) {
+        num += double(s(float(cie::TableStart + i))) * cie::Y[i];
+        den += cie::Y[i];
+    }
+    return den > 0.0 ? float(num / den) : 0.f;
+}
+
+class ConstantEmitter final : public Implements<IEmitter> {
+public:
+    static Schema schema() {
+        Schema s("emitter", "constant", "Uniform environment light: constant radiance from every direction.");
+        s.cite("M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §12.5.1");
+        s.spectrum("radiance", 1.f, SpectrumKind::Illuminant, "Radiance arriving from every direction")
+            .atLeast(0.0)
+            .withUnit("W m^-2 sr^-1");
+        return s;
+    }
+
+    explicit ConstantEmitter(const Properties& p)
+        : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)), m_luminance(spectrumLuminance(m_radiance)) {}
+
+    std::uint32_t flags() const override { return EmitterInfinite; }
+
+    void preprocess(const BBox3f& bounds) override {
+        if (bounds.valid() && isFinite(bounds.min) && isFinite(bounds.max)) {
+            m_center = bounds.center();
+            m_radius = bounds.boundingRadius();
+        }
+        // A scene of one point (or none) still needs a sphere to aim emission at.
+        if (!(m_radius > 0.f) || !std::isfinite(m_radius))
+            m_radius = std::max(1.f, 1e-3f * maxAbsComponent(m_center));
+    }
+
+    EmitterSample sampleDirect(const Point3f& ref, const Point2f& u, const SampledWavelengths& lambda) const override {
+        EmitterSample es;
+        es.wi = warp::squareToUniformSphere(u);
+        // A stand-in point beyond the bounding sphere, for callers that trace a shadow
+        // ray to es.p: everything in the scene lies closer than it.
+        es.p = ref + es.wi * (2.f * m_radius + length(ref - m_center));
+        es.n = -es.wi;
+        es.dist = Infinity;
+        es.pdf = warp::squareToUniformSpherePdf(es.wi);
+        es.L = m_radiance.sample(lambda);
+        return es;
+    }
+
+    SampledSpectrum evalEnvironment(const Vector3f&, const SampledWavelengths& lambda) const override {
+        return m_radiance.sample(lambda);
+    }
+
+    float pdfEnvironment(const Point3f&, const Vector3f&) const override { return Inv4Pi; }
+
+    EmissionSample sampleEmission(const Point2f& uPos, const Point2f& uDir,
+                                  const SampledWavelengths& lambda) const override {
+        // Direction of travel uniform on the sphere; the origin uniform on the disk of
+        // the bounding sphere's radius, perpendicular to it, one radius behind the centre:
+        // every point of that disk lies on or outside the sphere.
+        EmissionSample es;
+        Vector3f d = warp::squareToUniformSphere(uDir);
+        Point2f disk = warp::squareToUniformDiskConcentric(uPos);
+        Frame frame(d);
+        Point3f o = m_center + m_radius * (frame.toWorld(Vector3f(disk.x, disk.y, 0.f)) - d);
+        es.ray = Ray{o, d, Infinity};
+        es.n = d;
+        es.pdfPosition = 1.f / (Pi * m_radius * m_radius);
+        es.pdfDirection = Inv4Pi;
+        es.L = m_radiance.sample(lambda);
+        return es;
+    }
+
+    /// Power through the scene's cross-section: π r² · 4π · L (an estimate; only used
+    /// to weigh lights against each other).
+    float power() const override { return Pi * m_radius * m_radius * 4.f * Pi * m_luminance; }
+
+private:
+    Spectrum m_radiance;
+    float m_luminance;
+    Point3f m_center{0.f};
+    float m_radius = 1.f;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::ConstantEmitter)

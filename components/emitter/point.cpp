@@ -1,0 +1,101 @@
+// emitter "point" — an isotropic point light.
+//
+// A point that radiates intensity I [W/sr] equally in all directions. Irradiance on a
+// surface facing it at distance d falls off as I·cosθ/d² (inverse-square law). It is a
+// delta light: it can only be reached by sampling it, never by hitting it with a ray.
+//
+// Parameters:
+//   position   point      where the light is (alternatively: the translation of to_world)
+//   to_world   transform  placement; only its translation matters
+//   intensity  spectrum (illuminant, default 1)  radiant intensity [W sr^-1]
+//
+// Reference: pbrt-v4 §12.1.1 (point lights).
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/iemitter.hpp"
+#include "effigi/math/warp_functions.hpp"
+#include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/spectrum.hpp"
+
+namespace effigi {
+namespace {
+
+/// Luminance Y (∫ S ȳ / ∫ ȳ) of a spectrum, at 1 nm steps.
+float spectrumLuminance(const Spectrum& s) {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < cie::TableSize; ++i) {
+        num += double(s(float(cie::TableStart + i))) * cie::Y[i];
+        den += cie::Y[i];
+    }
+    return den > 0.0 ? float(num / den) : 0.f;
+}
+
+class PointEmitter final : public Implements<IEmitter> {
+public:
+    static Schema schema() {
+        Schema s("emitter", "point", "Isotropic point light.");
+        s.cite("M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §12.1");
+        s.optional("position", ParamType::Point, "Position of the light (or give to_world instead)");
+        s.transform("to_world", "Placement of the light; its translation is the position");
+        s.spectrum("intensity", 1.f, SpectrumKind::Illuminant, "Radiant intensity, the same in every direction")
+            .atLeast(0.0)
+            .withUnit("W sr^-1");
+        return s;
+    }
+
+    explicit PointEmitter(const Properties& p) : m_intensity(p.getSpectrum("intensity", SpectrumKind::Illuminant)) {
+        const Properties::Entry* toWorld = p.find("to_world");
+        bool hasToWorld = toWorld && !toWorld->fromDefault;
+        if (p.has("position")) {
+            if (hasToWorld)
+                failAt(p.whereOf("position"), "{}: give either 'position' or 'to_world', not both", p.describe());
+            m_position = p.getPoint("position");
+        } else {
+            m_position = p.getTransform("to_world").point(Point3f(0.f));
+        }
+        if (!isFinite(m_position))
+            failAt(p.whereOf(p.has("position") ? "position" : "to_world"), "{}: the position is not finite",
+                   p.describe());
+        m_luminance = spectrumLuminance(m_intensity);
+    }
+
+    std::uint32_t flags() const override { return EmitterDeltaPosition; }
+
+    EmitterSample sampleDirect(const Point3f& ref, const Point2f&, const SampledWavelengths& lambda) const override {
+        EmitterSample es;
+        es.p = m_position;
+        Vector3f d = m_position - ref;
+        float dist2 = lengthSquared(d);
+        if (!(dist2 > 0.f) || !std::isfinite(dist2)) return es;  // at the light: undefined, pdf 0
+        es.dist = std::sqrt(dist2);
+        es.wi = d / es.dist;
+        es.n = -es.wi;
+        es.pdf = 1.f;
+        es.delta = true;
+        es.L = m_intensity.sample(lambda) / dist2;
+        return es;
+    }
+
+    EmissionSample sampleEmission(const Point2f&, const Point2f& uDir, const SampledWavelengths& lambda) const override {
+        EmissionSample es;
+        Vector3f d = warp::squareToUniformSphere(uDir);
+        es.ray = Ray{m_position, d, Infinity};
+        es.n = d;
+        es.pdfPosition = 1.f;
+        es.pdfDirection = warp::squareToUniformSpherePdf(d);
+        es.L = m_intensity.sample(lambda);
+        return es;
+    }
+
+    /// Φ = 4π · I.
+    float power() const override { return 4.f * Pi * m_luminance; }
+
+private:
+    Spectrum m_intensity;
+    Point3f m_position{0.f};
+    float m_luminance = 0.f;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::PointEmitter)

@@ -1,0 +1,116 @@
+#pragma once
+// Image file output for the hdrfilm module: OpenEXR through the OpenEXR library and
+// 8-bit PNG through OpenImageIO. Kept in the module (not libeffigi) so the core library
+// links neither. Header-only because components/<tag>/*.cpp each become a module.
+#include "effigi/core/error.hpp"
+#include "effigi/core/log.hpp"
+#include "effigi/interfaces/ifilm.hpp"
+#include "effigi/spectral/colorspace.hpp"
+
+#include <Imath/half.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include <ImfStandardAttributes.h>
+#include <ImfStringAttribute.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace effigi::hdrfilm_io {
+
+namespace fs = std::filesystem;
+
+[[noreturn]] inline void cannotWrite(const fs::path& path, std::string reason) {
+    while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
+    std::replace(reason.begin(), reason.end(), '\n', ' ');  // errors are one line
+    fail("cannot write {}: {}", path.string(), reason.empty() ? "unknown error" : reason);
+}
+
+/// Fail early with a clear reason when the target directory is missing; everything
+/// else (permissions, full disk) is reported by the writing library.
+inline void checkDirectory(const fs::path& path) {
+    fs::path dir = path.parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        cannotWrite(path, fmt::format("directory '{}' does not exist", dir.string()));
+}
+
+/// OpenEXR, ZIP-compressed, one channel per image channel (HALF or FLOAT), metadata as
+/// string attributes. `rgb` adds the sRGB/Rec.709 chromaticities.
+inline void writeExr(const fs::path& path, const Image& img, bool half, bool rgb, const FilmMetadata& meta) {
+    checkDirectory(path);
+    if (img.channels() == 0 || img.width <= 0 || img.height <= 0)
+        cannotWrite(path, "the film holds no image (prepare() was not called)");
+    try {
+        Imf::Header header(img.width, img.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        if (rgb) Imf::addChromaticities(header, Imf::Chromaticities());  // Rec.709 primaries, D65
+        for (const auto& [key, value] : meta) {
+            if (key.empty() || header.find(key) != header.end()) {
+                log::warn("{}: metadata key '{}' clashes with a standard EXR attribute; skipped", path.string(), key);
+                continue;
+            }
+            header.insert(key, Imf::StringAttribute(value));
+        }
+        // The output frame buffer must have the file's pixel type: halves are converted
+        // here (round to nearest, overflow to infinity as IEEE 754 binary16).
+        std::vector<Imath::half> halves;
+        char* base = reinterpret_cast<char*>(const_cast<float*>(img.pixels.data()));
+        std::size_t size = sizeof(float);
+        if (half) {
+            halves.reserve(img.pixels.size());
+            for (float v : img.pixels) halves.push_back(Imath::half(v));
+            base = reinterpret_cast<char*>(halves.data());
+            size = sizeof(Imath::half);
+        }
+        const std::size_t xStride = size * std::size_t(img.channels());
+        const std::size_t yStride = xStride * std::size_t(img.width);
+        const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+        Imf::FrameBuffer fb;
+        for (int c = 0; c < img.channels(); ++c) {
+            const std::string& name = img.channelNames[std::size_t(c)];
+            header.channels().insert(name, Imf::Channel(type));
+            fb.insert(name, Imf::Slice(type, base + size * std::size_t(c), xStride, yStride));
+        }
+        Imf::OutputFile file(path.c_str(), header);
+        file.setFrameBuffer(fb);
+        file.writePixels(img.height);
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        cannotWrite(path, e.what());
+    }
+}
+
+/// 8-bit sRGB PNG of 1 (grey) or 3 (RGB) linear channels, scaled by 2^exposure and
+/// clamped to [0, 1]; metadata as text chunks.
+inline void writePng(const fs::path& path, int width, int height, int channels, const std::vector<float>& linear,
+                     float exposure, const FilmMetadata& meta) {
+    checkDirectory(path);
+    if (channels <= 0 || width <= 0 || height <= 0) cannotWrite(path, "the film holds no image");
+    const float scale = std::exp2(exposure);
+    std::vector<std::uint8_t> bytes(linear.size());
+    for (std::size_t i = 0; i < linear.size(); ++i) {
+        float v = linear[i] * scale;
+        v = std::isfinite(v) ? std::clamp(srgbEncode(std::max(v, 0.f)), 0.f, 1.f) : 0.f;
+        bytes[i] = std::uint8_t(std::lround(v * 255.f));
+    }
+    auto out = OIIO::ImageOutput::create(path.string());
+    if (!out) cannotWrite(path, OIIO::geterror());
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    for (const auto& [key, value] : meta) spec.attribute(key, value);
+    if (!out->open(path.string(), spec)) cannotWrite(path, out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::UINT8, bytes.data())) cannotWrite(path, out->geterror());
+    if (!out->close()) cannotWrite(path, out->geterror());
+}
+
+} // namespace effigi::hdrfilm_io

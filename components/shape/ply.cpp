@@ -1,0 +1,36 @@
+// ply — a triangle mesh read from a Stanford PLY file (ascii or binary, either byte
+// order) by effigi's own reader.
+//
+// Parameters: filename (relative to the scene file), face_normals (ignore the file's
+// vertex normals), flip_normals, to_world, nested bsdf and emitter.
+// Vertex properties x y z, optional nx ny nz and u v (or s t, texture_u texture_v);
+// faces from the list vertex_indices (or vertex_index), polygons fan-triangulated;
+// other elements and properties are skipped.
+// Reference: G. Turk, "The PLY Polygon File Format", 1994; Mitsuba 3 documentation, "PLY (ply)".
+#include "effigi/core/registry.hpp"
+#include "effigi/render/ply_reader.hpp"
+#include "effigi/render/shape_base.hpp"
+
+namespace effigi {
+namespace {
+
+class Ply final : public MeshShape {
+public:
+    static Schema schema() {
+        Schema s("shape", "ply", "Triangle mesh from a Stanford PLY file (ascii, binary little/big endian).");
+        s.cite("G. Turk, The PLY Polygon File Format, 1994");
+        s.optional("filename", ParamType::String, "PLY file, relative to the scene file").isRequired();
+        addMeshParams(s);
+        return s;
+    }
+
+    explicit Ply(const Properties& p) : MeshShape(p) {
+        std::string file = p.getPath("filename").string();
+        setMesh(readPly(file), file);
+    }
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::Ply)

@@ -1,0 +1,92 @@
+#pragma once
+// What a component accepts: typed parameters with defaults, units, ranges and a
+// one-line doc each, plus the nested components it takes. The schema drives
+// validation, `effigi info`, docs/components.md and the conformance runner.
+#include "effigi/core/properties.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace effigi {
+
+enum class ParamType { Bool, Int, Float, String, Point, Vector, Transform, Spectrum, Texture, Component };
+
+const char* paramTypeName(ParamType t);
+
+struct ParamSpec {
+    std::string name;
+    ParamType type = ParamType::Float;
+    std::optional<PropertyValue> defaultValue;  // none and !required: optional, no default
+    std::string doc;
+    std::string unit;
+    std::optional<double> min, max;
+    std::vector<std::string> choices;   // String: allowed values
+    SpectrumKind spectrumKind = SpectrumKind::Reflectance;
+    std::string componentTag;           // Component: the accepted tag
+    bool required = false;
+    bool multiple = false;              // Component: any number of unnamed children
+
+    ParamSpec& range(double lo, double hi) { min = lo; max = hi; return *this; }
+    ParamSpec& atLeast(double lo) { min = lo; return *this; }
+    ParamSpec& withUnit(std::string u) { unit = std::move(u); return *this; }
+    ParamSpec& oneOf(std::vector<std::string> c) { choices = std::move(c); return *this; }
+    ParamSpec& isRequired() { required = true; return *this; }
+};
+
+/// A named parameter set the conformance runner instantiates (ordinary or extreme).
+struct ConformanceConfig {
+    std::string name;
+    std::vector<std::pair<std::string, PropertyValue>> params;
+};
+
+class Schema {
+public:
+    Schema() = default;
+    Schema(std::string tag, std::string name, std::string doc)
+        : m_tag(std::move(tag)), m_name(std::move(name)), m_doc(std::move(doc)) {}
+
+    const std::string& tag() const { return m_tag; }
+    const std::string& name() const { return m_name; }
+    const std::string& doc() const { return m_doc; }
+    const std::string& reference() const { return m_reference; }
+    const std::vector<ParamSpec>& params() const { return m_params; }
+    const std::vector<ConformanceConfig>& conformance() const { return m_configs; }
+    const ParamSpec* find(const std::string& name) const;
+
+    Schema& cite(std::string ref) { m_reference = std::move(ref); return *this; }
+
+    ParamSpec& boolean(const std::string& name, bool def, std::string doc);
+    ParamSpec& integer(const std::string& name, std::int64_t def, std::string doc);
+    ParamSpec& real(const std::string& name, double def, std::string doc);
+    ParamSpec& string(const std::string& name, std::string def, std::string doc);
+    ParamSpec& point(const std::string& name, Point3f def, std::string doc);
+    ParamSpec& vector(const std::string& name, Vector3f def, std::string doc);
+    /// A transform, identity unless given.
+    ParamSpec& transform(const std::string& name, std::string doc);
+    /// Spectral value (float, rgb or spectrum), no texture.
+    ParamSpec& spectrum(const std::string& name, float def, SpectrumKind kind, std::string doc);
+    /// Spectral value or nested texture.
+    ParamSpec& texture(const std::string& name, float def, SpectrumKind kind, std::string doc);
+    /// A parameter without a default that may be omitted (e.g. an optional nested part).
+    ParamSpec& optional(const std::string& name, ParamType type, std::string doc);
+    /// A nested component; `name` is also the name unnamed children of this tag get.
+    ParamSpec& child(const std::string& tag, const std::string& name, std::string doc);
+    /// Any number of unnamed nested components of one tag.
+    ParamSpec& children(const std::string& tag, std::string doc);
+
+    Schema& addConformance(ConformanceConfig c) { m_configs.push_back(std::move(c)); return *this; }
+
+    /// Check user properties against the schema and add defaults: unknown names and
+    /// wrong types are errors naming file:line and the closest known parameter.
+    void validate(Properties& props) const;
+
+private:
+    ParamSpec& add(ParamSpec p);
+
+    std::string m_tag, m_name, m_doc, m_reference;
+    std::vector<ParamSpec> m_params;
+    std::vector<ConformanceConfig> m_configs;
+};
+
+} // namespace effigi

@@ -1,0 +1,37 @@
+#pragma once
+// A point on a surface as seen by a ray: position, normals, shading frame, texture
+// coordinates, and what is attached there (BSDF, emitter).
+#include "effigi/math/frame.hpp"
+#include "effigi/render/ray.hpp"
+
+namespace effigi {
+
+class IShape;
+class IBSDF;
+class IEmitter;
+
+struct SurfaceInteraction {
+    Point3f p{0.f};
+    float t = Infinity;
+    Normal3f n{0.f, 0.f, 1.f};  ///< geometric normal (winding / outward)
+    Frame shading;              ///< shading frame; shading.n may differ from n
+    Point2f uv{0.f};
+    Vector3f wo{0.f};  ///< unit direction back along the arriving ray (world)
+    const IShape* shape = nullptr;
+    const IBSDF* bsdf = nullptr;
+    const IEmitter* emitter = nullptr;
+    std::uint32_t prim = 0;
+
+    Vector3f toLocal(const Vector3f& v) const { return shading.toLocal(v); }
+    Vector3f toWorld(const Vector3f& v) const { return shading.toWorld(v); }
+
+    Ray spawnRay(const Vector3f& d) const { return Ray{offsetRayOrigin(p, n, d), d, Infinity}; }
+    /// Ray toward target that stops just before it (shadow rays).
+    Ray spawnRayTo(const Point3f& target) const {
+        Vector3f d = target - p;
+        Point3f o = offsetRayOrigin(p, n, d);
+        return Ray{o, target - o, 1.f - ShadowEpsilon};
+    }
+};
+
+} // namespace effigi

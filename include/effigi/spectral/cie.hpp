@@ -1,0 +1,54 @@
+#pragma once
+// CIE 1931 2° colour matching functions and the D65 illuminant, 1 nm steps over
+// [LambdaMin, LambdaMax]. The tables are compiled in from data/*.csv at build time
+// (see data/README.md for their source).
+#include "effigi/math/vector.hpp"
+#include "effigi/spectral/wavelengths.hpp"
+
+namespace effigi::cie {
+
+inline constexpr int TableStart = 360;
+inline constexpr int TableSize = 471;  // 360..830 nm inclusive
+
+extern const float X[TableSize];
+extern const float Y[TableSize];
+extern const float Z[TableSize];
+/// CIE standard illuminant D65, relative SPD (100 at 560 nm).
+extern const float D65[TableSize];
+
+/// Piecewise-linear lookup in a 1 nm table; zero outside the table.
+inline float lookup(const float* table, float lambda) {
+    float x = lambda - float(TableStart);
+    if (!(x >= 0.f) || x > float(TableSize - 1)) return 0.f;
+    int i = std::min(int(x), TableSize - 2);
+    float t = x - float(i);
+    return (1.f - t) * table[i] + t * table[i + 1];
+}
+
+/// ∫ ȳ(λ) dλ of the piecewise-linear table (trapezoid rule = exact for it).
+float yIntegral();
+/// 1 / ∫ D65(λ) ȳ(λ) dλ · ∫ ȳ dλ: scales D65 so that its luminance Y is 1.
+float d65Normalization();
+
+/// Monte Carlo estimate of XYZ = ∫ L x̄ / ∫ ȳ from four sampled wavelengths.
+inline Vector3f toXYZ(const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    SampledSpectrum pdf = lambda.pdf();
+    Vector3f xyz(0.f);
+    for (int i = 0; i < NSpectrumSamples; ++i) {
+        if (pdf[i] == 0.f) continue;
+        float w = L[i] / pdf[i];
+        xyz += w * Vector3f(lookup(X, lambda[i]), lookup(Y, lambda[i]), lookup(Z, lambda[i]));
+    }
+    return xyz / (float(NSpectrumSamples) * yIntegral());
+}
+
+/// Luminance (Y) part of toXYZ.
+inline float toY(const SampledSpectrum& L, const SampledWavelengths& lambda) {
+    SampledSpectrum pdf = lambda.pdf();
+    float y = 0.f;
+    for (int i = 0; i < NSpectrumSamples; ++i)
+        if (pdf[i] != 0.f) y += L[i] * lookup(Y, lambda[i]) / pdf[i];
+    return y / (float(NSpectrumSamples) * yIntegral());
+}
+
+} // namespace effigi::cie

@@ -1,0 +1,67 @@
+#pragma once
+// Spectral distributions as values: a function of wavelength that is sampled at a
+// path's four wavelengths. One small tagged type covers every way a scene states a
+// colour (constant, RGB, tabulated, blackbody); no virtual call per sample.
+#include "effigi/math/vector.hpp"
+#include "effigi/spectral/upsample.hpp"
+#include "effigi/spectral/wavelengths.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace effigi {
+
+/// What a spectral parameter means, which decides how an RGB value is upsampled.
+enum class SpectrumKind {
+    Reflectance,  ///< bounded to [0, 1] (albedo, transmittance)
+    Unbounded,    ///< any non-negative value (scale factors, IOR)
+    Illuminant,   ///< emission: RGB is relative to the colour space's white (D65)
+};
+
+class Spectrum {
+public:
+    enum class Type { Constant, Piecewise, RGB, Blackbody };
+
+    Spectrum() : Spectrum(0.f) {}
+    /// The same value at every wavelength.
+    explicit Spectrum(float c) : m_type(Type::Constant), m_scale(c) {}
+
+    /// Linear interpolation between (λ_i, v_i), λ ascending, constant beyond the ends.
+    static Spectrum piecewiseLinear(std::vector<float> lambdas, std::vector<float> values);
+    /// Jakob–Hanika upsampling of a linear sRGB triple.
+    static Spectrum fromRGB(const Vector3f& rgb, SpectrumKind kind);
+    /// Planck's law at temperature T [K], normalised to peak 1.
+    static Spectrum blackbody(float temperatureK);
+
+    Type type() const { return m_type; }
+
+    float operator()(float lambda) const;
+    SampledSpectrum sample(const SampledWavelengths& lambda) const {
+        SampledSpectrum s;
+        for (int i = 0; i < NSpectrumSamples; ++i) s[i] = (*this)(lambda[i]);
+        return s;
+    }
+
+    /// Upper bound over the visible range.
+    float maxValue() const;
+    /// Same spectrum multiplied by s.
+    Spectrum scaled(float s) const {
+        Spectrum r = *this;
+        r.m_scale *= s;
+        return r;
+    }
+
+private:
+    Type m_type;
+    float m_scale = 1.f;
+    RGBSigmoidPolynomial m_poly;  // RGB
+    bool m_illuminant = false;    // RGB: multiply by normalised D65
+    float m_temperature = 0.f;    // Blackbody
+    float m_bbNorm = 1.f;
+    std::shared_ptr<const std::vector<float>> m_lambdas, m_values;  // Piecewise
+};
+
+/// Planck's law: spectral radiance of a blackbody [W sr^-1 m^-2 nm^-1] at λ [nm], T [K].
+float planck(float lambdaNm, float temperatureK);
+
+} // namespace effigi

@@ -1,0 +1,131 @@
+#pragma once
+// Hero-wavelength spectral sampling (Wilkie et al. 2014): every path carries four
+// wavelengths, the first drawn by importance, the others rotated through the range.
+#include "effigi/math/warp_functions.hpp"
+
+#include <array>
+#include <cmath>
+
+namespace effigi {
+
+inline constexpr float LambdaMin = 360.f;
+inline constexpr float LambdaMax = 830.f;
+inline constexpr int NSpectrumSamples = 4;
+
+/// Values of a spectral quantity at the path's sampled wavelengths.
+class SampledSpectrum {
+public:
+    SampledSpectrum() = default;
+    explicit SampledSpectrum(float c) { m_v.fill(c); }
+    SampledSpectrum(float a, float b, float c, float d) : m_v{a, b, c, d} {}
+
+    float& operator[](int i) { return m_v[i]; }
+    float operator[](int i) const { return m_v[i]; }
+
+#define EFFIGI_SPECTRUM_OP(op)                                                        \
+    SampledSpectrum& operator op##=(const SampledSpectrum& o) {                       \
+        for (int i = 0; i < NSpectrumSamples; ++i) m_v[i] op## = o.m_v[i];           \
+        return *this;                                                                 \
+    }                                                                                 \
+    SampledSpectrum& operator op##=(float s) {                                        \
+        for (int i = 0; i < NSpectrumSamples; ++i) m_v[i] op## = s;                  \
+        return *this;                                                                 \
+    }                                                                                 \
+    friend SampledSpectrum operator op(SampledSpectrum a, const SampledSpectrum& b) { \
+        return a op## = b;                                                            \
+    }                                                                                 \
+    friend SampledSpectrum operator op(SampledSpectrum a, float s) { return a op## = s; }
+    EFFIGI_SPECTRUM_OP(+)
+    EFFIGI_SPECTRUM_OP(-)
+    EFFIGI_SPECTRUM_OP(*)
+#undef EFFIGI_SPECTRUM_OP
+    friend SampledSpectrum operator*(float s, SampledSpectrum a) { return a *= s; }
+    /// Division that yields 0 where the divisor is 0 (pdf ratios of absent wavelengths).
+    friend SampledSpectrum safeDiv(SampledSpectrum a, const SampledSpectrum& b) {
+        for (int i = 0; i < NSpectrumSamples; ++i) a.m_v[i] = b.m_v[i] != 0.f ? a.m_v[i] / b.m_v[i] : 0.f;
+        return a;
+    }
+    SampledSpectrum operator/(float s) const { return *this * (1.f / s); }
+
+    bool isBlack() const {
+        for (float v : m_v)
+            if (v != 0.f) return false;
+        return true;
+    }
+    bool isFinite() const {
+        for (float v : m_v)
+            if (!std::isfinite(v)) return false;
+        return true;
+    }
+    float maxValue() const { return std::max(std::max(m_v[0], m_v[1]), std::max(m_v[2], m_v[3])); }
+    float average() const { return 0.25f * (m_v[0] + m_v[1] + m_v[2] + m_v[3]); }
+
+private:
+    std::array<float, NSpectrumSamples> m_v{};
+};
+
+inline SampledSpectrum exp(SampledSpectrum s) {
+    for (int i = 0; i < NSpectrumSamples; ++i) s[i] = std::exp(s[i]);
+    return s;
+}
+inline SampledSpectrum clampZero(SampledSpectrum s) {
+    for (int i = 0; i < NSpectrumSamples; ++i) s[i] = std::max(0.f, s[i]);
+    return s;
+}
+
+class SampledWavelengths {
+public:
+    /// Visible-range importance sampling with stratified secondary wavelengths.
+    static SampledWavelengths sampleVisible(float u) {
+        SampledWavelengths w;
+        for (int i = 0; i < NSpectrumSamples; ++i) {
+            float up = u + float(i) / NSpectrumSamples;
+            if (up > 1.f) up -= 1.f;
+            w.m_lambda[i] = warp::sampleVisibleWavelength(up);
+            w.m_pdf[i] = warp::visibleWavelengthPdf(w.m_lambda[i]);
+        }
+        return w;
+    }
+    /// Uniform over [LambdaMin, LambdaMax], stratified the same way.
+    static SampledWavelengths sampleUniform(float u) {
+        SampledWavelengths w;
+        float delta = (LambdaMax - LambdaMin) / NSpectrumSamples;
+        float l0 = lerp(u, LambdaMin, LambdaMax);
+        for (int i = 0; i < NSpectrumSamples; ++i) {
+            float l = l0 + delta * i;
+            if (l > LambdaMax) l -= LambdaMax - LambdaMin;
+            w.m_lambda[i] = l;
+            w.m_pdf[i] = 1.f / (LambdaMax - LambdaMin);
+        }
+        return w;
+    }
+    /// The same wavelength in every slot (tests, single-λ queries).
+    static SampledWavelengths constant(float lambda) {
+        SampledWavelengths w;
+        w.m_lambda.fill(lambda);
+        w.m_pdf.fill(1.f);
+        return w;
+    }
+
+    float operator[](int i) const { return m_lambda[i]; }
+    SampledSpectrum pdf() const { return {m_pdf[0], m_pdf[1], m_pdf[2], m_pdf[3]}; }
+
+    /// Keep only the hero wavelength (e.g. at a dispersive interface); its pdf absorbs
+    /// the probability of having drawn any of the four.
+    void terminateSecondary() {
+        if (secondaryTerminated()) return;
+        for (int i = 1; i < NSpectrumSamples; ++i) m_pdf[i] = 0.f;
+        m_pdf[0] /= NSpectrumSamples;
+    }
+    bool secondaryTerminated() const {
+        for (int i = 1; i < NSpectrumSamples; ++i)
+            if (m_pdf[i] != 0.f) return false;
+        return true;
+    }
+
+private:
+    std::array<float, NSpectrumSamples> m_lambda{};
+    std::array<float, NSpectrumSamples> m_pdf{};
+};
+
+} // namespace effigi

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages effigi builds against. Idempotent: apt-get runs
+# only when a package is missing, so a second `make render` costs a dpkg query.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config ccache
+  libembree-dev        # Embree 3: the default accelerator
+  libopenimageio-dev   # PNG (and other LDR) output
+  libopenexr-dev       # EXR output
+  libglm-dev           # vector math
+  libosd-dev           # OpenSubdiv (subdivision surfaces)
+  catch2               # unit tests (v2)
+  libtbb-dev           # parallel tiles
+  libpugixml-dev       # XML scenes
+  libtinyobjloader-dev # OBJ meshes
+  libfmt-dev           # formatting
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"

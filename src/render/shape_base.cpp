@@ -1,0 +1,162 @@
+// ShapeBase (nested BSDF/emitter, to_world) and MeshShape (triangle meshes: hit
+// reconstruction from barycentrics, area sampling).
+#include "effigi/render/shape_base.hpp"
+
+#include "effigi/math/warp_functions.hpp"
+
+#include <algorithm>
+
+namespace effigi {
+
+// ---------------------------------------------------------------------------------------
+// ShapeBase
+
+void ShapeBase::addCommonParams(Schema& s) {
+    s.transform("to_world", "Object-to-world transform");
+    s.child("bsdf", "bsdf", "Surface scattering (default: a diffuse BSDF)");
+    s.child("emitter", "emitter", "Area emitter that makes this shape a light (optional)");
+    s.boolean("flip_normals", false, "Turn the surface inside out: normals point the other way");
+}
+
+ShapeBase::ShapeBase(const Properties& props) {
+    if (props.has("to_world")) m_toWorld = props.getTransform("to_world");
+    if (props.has("flip_normals")) m_flipNormals = props.getBool("flip_normals");
+    m_bsdf = props.get<IBSDF>("bsdf");
+    if (!m_bsdf) {
+        Properties p("bsdf", "diffuse", props.where());
+        m_bsdf = effigi::query<IBSDF>(Registry::instance().create("bsdf", "diffuse", p));
+        if (!m_bsdf) failAt(props.where(), "{}: could not create the default diffuse BSDF", props.describe());
+    }
+    m_emitter = props.get<IEmitter>("emitter");
+    if (m_emitter) m_emitterWhere = props.whereOf("emitter");
+}
+
+void ShapeBase::attachEmitter() {
+    if (!m_emitter) return;
+    try {
+        m_emitter->attach(this);
+    } catch (const Error& e) {
+        // attach() errors (e.g. a point light nested in a shape) know no file position.
+        if (e.where().known() || !m_emitterWhere.known()) throw;
+        throw Error(m_emitterWhere, e.what());
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// MeshShape
+
+void MeshShape::addMeshParams(Schema& s) {
+    if (!s.find("to_world")) addCommonParams(s);
+    s.boolean("face_normals", false, "Ignore vertex normals: shade with the flat face normals");
+}
+
+MeshShape::MeshShape(const Properties& props) : ShapeBase(props) {
+    if (props.has("face_normals")) m_faceNormals = props.getBool("face_normals");
+}
+
+void MeshShape::setMesh(TriangleMesh mesh, const std::string& what) {
+    mesh.validate(what);
+    if (mesh.triangleCount() == 0) fail("{}: mesh has no triangles", what);
+    if (m_faceNormals) mesh.normals.clear();
+    mesh.transform(m_toWorld);
+    mesh.validate(what);  // a non-finite or huge to_world shows up here
+    if (m_flipNormals) mesh.flip();
+    m_mesh = std::move(mesh);
+
+    // Cumulative areas summed in double so that a million small triangles do not drift.
+    std::size_t n = m_mesh.triangleCount();
+    m_areaCdf.resize(n);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        sum += double(m_mesh.triangleArea(i));
+        m_areaCdf[i] = float(sum);
+    }
+    m_area = float(sum);
+    m_bbox = m_mesh.bbox();
+    attachEmitter();
+}
+
+SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const {
+    SurfaceInteraction si;
+    const std::uint32_t* idx = &m_mesh.indices[3 * std::size_t(hit.prim)];
+    const Point3f& p0 = m_mesh.positions[idx[0]];
+    const Point3f& p1 = m_mesh.positions[idx[1]];
+    const Point3f& p2 = m_mesh.positions[idx[2]];
+    float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
+
+    // From the barycentrics rather than o + t·d: exact on the triangle's plane.
+    si.p = b0 * p0 + b1 * p1 + b2 * p2;
+    si.t = hit.t;
+    si.prim = hit.prim;
+    Vector3f ng = cross(p1 - p0, p2 - p0);
+    float ng2 = dot(ng, ng);
+    si.n = ng2 > 0.f ? ng / std::sqrt(ng2) : Normal3f(0.f, 0.f, 1.f);
+
+    Normal3f ns = si.n;
+    if (!m_mesh.normals.empty()) {
+        Normal3f m = b0 * m_mesh.normals[idx[0]] + b1 * m_mesh.normals[idx[1]] + b2 * m_mesh.normals[idx[2]];
+        float m2 = dot(m, m);
+        if (m2 > 1e-20f && std::isfinite(m2)) ns = m / std::sqrt(m2);
+    }
+
+    Vector3f s(0.f);
+    if (!m_mesh.uvs.empty()) {
+        const Point2f& t0 = m_mesh.uvs[idx[0]];
+        const Point2f& t1 = m_mesh.uvs[idx[1]];
+        const Point2f& t2 = m_mesh.uvs[idx[2]];
+        si.uv = b0 * t0 + b1 * t1 + b2 * t2;
+        // dp/du from the two edge equations dp_i2 = du_i2 dp/du + dv_i2 dp/dv (pbrt §6.5.3).
+        Vector2f d02 = t0 - t2, d12 = t1 - t2;
+        float det = d02.x * d12.y - d02.y * d12.x;
+        if (std::abs(det) > 1e-12f) s = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det;
+    } else {
+        si.uv = Point2f(b1, b2);
+    }
+    // Gram-Schmidt against the shading normal; fall back to an arbitrary tangent.
+    s -= ns * dot(ns, s);
+    float s2 = dot(s, s);
+    if (s2 > 1e-20f && std::isfinite(s2)) {
+        s /= std::sqrt(s2);
+        si.shading = Frame(s, cross(ns, s), ns);
+    } else {
+        si.shading = Frame(ns);
+    }
+    finish(si, ray);
+    return si;
+}
+
+PositionSample MeshShape::samplePosition(const Point2f& u) const {
+    PositionSample ps;
+    std::size_t n = m_areaCdf.size();
+    if (n == 0 || !(m_area > 0.f)) return ps;  // pdf 0: nothing to sample
+
+    // Pick a triangle by area; upper_bound never lands on a zero-area triangle
+    // (its cdf entry equals its predecessor's).
+    float target = u.x * m_area;
+    std::size_t i = std::size_t(std::upper_bound(m_areaCdf.begin(), m_areaCdf.end(), target) - m_areaCdf.begin());
+    if (i >= n) {  // u.x·area rounded up to the total: take the last triangle with area
+        i = n - 1;
+        while (i > 0 && m_areaCdf[i] == m_areaCdf[i - 1]) --i;
+    }
+    float lo = i > 0 ? m_areaCdf[i - 1] : 0.f, width = m_areaCdf[i] - lo;
+    // Reuse what is left of u.x inside the chosen triangle's interval.
+    float ux = width > 0.f ? std::clamp((target - lo) / width, 0.f, OneMinusEpsilon) : 0.f;
+
+    Point2f b = warp::squareToUniformTriangle(Point2f(ux, u.y));
+    float b0 = b.x, b1 = b.y, b2 = 1.f - b0 - b1;
+    const std::uint32_t* idx = &m_mesh.indices[3 * i];
+    const Point3f& p0 = m_mesh.positions[idx[0]];
+    const Point3f& p1 = m_mesh.positions[idx[1]];
+    const Point3f& p2 = m_mesh.positions[idx[2]];
+    ps.p = b0 * p0 + b1 * p1 + b2 * p2;
+    Vector3f ng = cross(p1 - p0, p2 - p0);
+    float ng2 = dot(ng, ng);
+    ps.n = ng2 > 0.f ? ng / std::sqrt(ng2) : Normal3f(0.f, 0.f, 1.f);
+    ps.uv = m_mesh.uvs.empty()
+                ? Point2f(b1, b2)
+                : b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];
+    ps.pdf = 1.f / m_area;
+    return ps;
+}
+
+} // namespace effigi
