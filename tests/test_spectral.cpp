@@ -312,19 +312,14 @@ TEST_CASE("upsampling table: corrupt files are errors naming the file", "[spectr
     namespace fs = std::filesystem;
     fs::path dir = fs::temp_directory_path() / ("effigi_test_spectral_" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    std::vector<char> good;
-    {
-        // A valid resolution-2 table: magic, res, z nodes {0, 1}, 3·2³·3 coefficients.
-        const char magic[16] = "EFFIGI_RGB2SPEC";
-        good.insert(good.end(), magic, magic + 16);
-        auto put = [&](const void* p) { good.insert(good.end(), (const char*)p, (const char*)p + 4); };
-        std::int32_t res = 2;
-        put(&res);
-        float z[2] = {0.f, 1.f}, zero = 0.f;
-        put(&z[0]);
-        put(&z[1]);
-        for (int i = 0; i < 3 * 8 * 3; ++i) put(&zero);
-    }
+    // A valid resolution-2 table: magic, res, z nodes {0, 1}, 3·2³·3 zero coefficients
+    // (little endian, as is this machine).
+    std::vector<char> good(16 + 4 + 2 * 4 + 3 * 8 * 3 * 4, 0);
+    std::memcpy(good.data(), "EFFIGI_RGB2SPEC", 16);
+    const std::int32_t res = 2;
+    const float one = 1.f;
+    std::memcpy(&good[16], &res, 4);
+    std::memcpy(&good[24], &one, 4);
     auto write = [&](const std::string& name, const std::vector<char>& bytes) {
         fs::path p = dir / name;
         std::ofstream(p, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
@@ -363,4 +358,29 @@ TEST_CASE("upsampling table: corrupt files are errors naming the file", "[spectr
 
     // The shipped table loads and has the build resolution.
     CHECK(RGBToSpectrumTable::sRGB().resolution() >= 16);
+}
+
+TEST_CASE("wavelength sampling: the closed-form pdf equals the pdf function", "[spectral]") {
+    for (int i = 0; i <= 1000; ++i) {
+        float u = std::min(i / 1000.f, effigi::OneMinusEpsilon), pdf;
+        float lambda = effigi::warp::sampleVisibleWavelength(u, pdf);
+        CHECK(lambda == Approx(effigi::warp::sampleVisibleWavelength(u)).epsilon(1e-5));
+        CHECK(pdf == Approx(effigi::warp::visibleWavelengthPdf(lambda)).epsilon(2e-4));
+    }
+}
+
+TEST_CASE("spectrum: the inline sample() path equals operator()", "[spectral]") {
+    using namespace effigi;
+    PCG32 rng(7, 3);
+    for (int k = 0; k < 2000; ++k) {
+        Vector3f rgb(rng.nextFloat(), rng.nextFloat(), rng.nextFloat());
+        if (k % 10 == 0) rgb = Vector3f(float(k % 3 == 0), float(k % 3 == 1), 0.f);  // primaries, black
+        for (SpectrumKind kind : {SpectrumKind::Reflectance, SpectrumKind::Illuminant}) {
+            Spectrum s = Spectrum::fromRGB(rgb * (kind == SpectrumKind::Illuminant ? 7.f : 1.f), kind);
+            SampledWavelengths lambda = SampledWavelengths::sampleVisible(rng.nextFloat());
+            SampledSpectrum v = s.sample(lambda);
+            for (int i = 0; i < NSpectrumSamples; ++i)
+                CHECK(v[i] == Approx(s(lambda[i])).margin(1e-6).epsilon(1e-5));
+        }
+    }
 }

@@ -242,11 +242,19 @@ int main(int argc, char** argv) {
         return 1;
     }
     const int res = std::atoi(argv[1]);
-    if (res < 3 || res > 256) {
-        std::fprintf(stderr, "rgb2spec_opt: resolution must be in [3, 256], got '%s'\n", argv[1]);
+    if (res < 2 || res > 256) {
+        std::fprintf(stderr, "rgb2spec_opt: resolution must be in [2, 256], got '%s'\n", argv[1]);
         return 1;
     }
     const char* outPath = argv[2];
+    // Open the output first so that a bad path fails before the long fit.
+    std::ofstream out(outPath, std::ios::binary | std::ios::trunc);
+    if (!out) {
+        std::fprintf(stderr, "rgb2spec_opt: cannot open '%s' for writing\n", outPath);
+        return 1;
+    }
+    std::printf("rgb2spec_opt: fitting 3 x %d^3 sigmoid polynomials for sRGB\n", res);
+    std::fflush(stdout);
     auto t0 = std::chrono::steady_clock::now();
 
     const Quadrature fine = fineQuadrature();
@@ -263,7 +271,7 @@ int main(int argc, char** argv) {
     const int startK = res / 2;  // slab centre: mid brightness, where the fit is easiest
 
     std::atomic<int> columnsDone{0};
-    std::atomic<int> lastReported{-1};
+    std::atomic<int> lastReported{0};
     std::mutex statsMutex;
     double worstRgb = 0.0, worstLab = 0.0;
     long unconverged = 0;
@@ -349,15 +357,11 @@ int main(int argc, char** argv) {
     for (float z : zNodes) putFloat(buf, z);
     for (float v : coeffs) putFloat(buf, v);
 
-    std::ofstream out(outPath, std::ios::binary | std::ios::trunc);
-    if (!out) {
-        std::fprintf(stderr, "rgb2spec_opt: cannot open '%s' for writing\n", outPath);
-        return 1;
-    }
     out.write(reinterpret_cast<const char*>(buf.data()), std::streamsize(buf.size()));
     out.close();
     if (!out) {
         std::fprintf(stderr, "rgb2spec_opt: error writing '%s'\n", outPath);
+        std::remove(outPath);  // no truncated table left behind
         return 1;
     }
     return 0;

@@ -65,6 +65,10 @@ int render(const std::vector<std::string>& args) {
         else fail("render: more than one scene given ('{}', '{}')", scenePath, a);
     }
     if (scenePath.empty()) fail("render: no scene file given");
+    // From here on SIGINT only asks the renderer to stop; a render interrupted before it
+    // starts writes an empty image.
+    std::signal(SIGINT, onSigint);
+    control.stop = &g_stop;
     if (verbose) log::setLevel(log::Level::Info);
     if (outPath.empty()) outPath = std::filesystem::path(scenePath).stem().string() + ".exr";
 
@@ -72,8 +76,6 @@ int render(const std::vector<std::string>& args) {
     std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    std::signal(SIGINT, onSigint);
-    control.stop = &g_stop;
     RenderStats stats = scene->renderer().render(*scene, control);
     std::signal(SIGINT, SIG_DFL);
 

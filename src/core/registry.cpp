@@ -55,7 +55,7 @@ void Registry::add(ComponentInfo info) {
 }
 
 void Registry::loadModule(const std::string& path, const Key& wanted) {
-    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (!handle) fail("cannot load module {} for {} '{}': {}", path, wanted.first, wanted.second, dlerror());
     auto entry = reinterpret_cast<ModuleEntry>(dlsym(handle, "effigiRegisterModule"));
     if (!entry) fail("module {} has no effigiRegisterModule entry point", path);
@@ -98,7 +98,14 @@ Ref<IComponent> Registry::create(const std::string& tag_, const std::string& nam
         throw Error(props.where(), e.what());
     }
     ci->schema.validate(props);
-    Ref<IComponent> obj = ci->create(props);
+    Ref<IComponent> obj;
+    try {
+        obj = ci->create(props);
+    } catch (const Error& e) {
+        // Errors found while building (a missing mesh file, ...) get the element's place.
+        if (e.where().known() || !props.where().known()) throw;
+        throw Error(props.where(), fmt::format("{}: {}", props.describe(), e.what()));
+    }
     obj->setIdentity(tag + "/" + name, props.id());
     return obj;
 }

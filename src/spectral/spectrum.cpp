@@ -60,7 +60,7 @@ Spectrum Spectrum::fromRGB(const Vector3f& rgb, SpectrumKind kind) {
     s.m_type = Type::RGB;
     if (kind == SpectrumKind::Reflectance) {
         s.m_scale = 1.f;
-        s.m_poly = table(glm::clamp(rgb, Vector3f(0.f), Vector3f(1.f)));
+        s.setPoly(table(glm::clamp(rgb, Vector3f(0.f), Vector3f(1.f))));
         return s;
     }
     // Unbounded and illuminant values: the table fits colours in [0, 1], so scale the
@@ -71,8 +71,9 @@ Spectrum Spectrum::fromRGB(const Vector3f& rgb, SpectrumKind kind) {
     if (m <= 0.f) return Spectrum(0.f);
     float scale = 2.f * m;
     s.m_scale = scale;
-    s.m_poly = table(c / scale);
+    s.setPoly(table(c / scale));
     s.m_illuminant = kind == SpectrumKind::Illuminant;
+    s.m_d65Scale = cie::d65Normalization();
     return s;
 }
 
@@ -86,6 +87,16 @@ Spectrum Spectrum::blackbody(float temperatureK) {
     // Wien's displacement law puts the maximum of B_λ at λ = b / T.
     s.m_bbNorm = float(1e9 / planckPerMetre(WienB / temperatureK, temperatureK));
     return s;
+}
+
+void Spectrum::setPoly(const RGBSigmoidPolynomial& p) {
+    // c0 λ² + c1 λ + c2 with λ = t + λc: c0 t² + (2 c0 λc + c1) t + (c0 λc² + c1 λc + c2),
+    // in double; infinite coefficients (exact black or white) stay infinite.
+    m_poly = p;
+    const double c = PolyCentre;
+    m_a0 = p.c0;
+    m_a1 = std::isinf(p.c2) ? 0.f : float(2.0 * p.c0 * c + p.c1);
+    m_a2 = float(p.polynomial(c));
 }
 
 float Spectrum::operator()(float lambda) const {

@@ -91,7 +91,9 @@ inline Point2f uniformTriangleToSquare(const Point2f& b) {
 }
 
 /// Visible-spectrum wavelength importance sampling (Radziszewski et al. 2009 fit,
-/// pdf ∝ 1/cosh²(0.0072 (λ − 538)) over 360–830 nm).
+/// pdf ∝ 1/cosh²(0.0072 (λ − 538)) over 360–830 nm). The constants: 1/0.0072 =
+/// 138.888889; tanh(0.0072·(538 − 360)) = 0.85691062 and the CDF's range
+/// tanh(0.0072·178) + tanh(0.0072·292) = 1.82750197.
 inline float sampleVisibleWavelength(float u) {
     return 538.f - 138.888889f * std::atanh(0.85691062f - 1.82750197f * u);
 }
@@ -99,6 +101,13 @@ inline float visibleWavelengthPdf(float lambda) {
     if (lambda < 360.f || lambda > 830.f) return 0.f;
     float c = std::cosh(0.0072f * (lambda - 538.f));
     return 0.0039398042f / (c * c);
+}
+/// Both at once: with a = 0.85691062 − 1.82750197 u, λ = 538 − atanh(a)/0.0072 and
+/// 1/cosh²(atanh(a)) = 1 − a², so the pdf needs no transcendental beyond one log.
+inline float sampleVisibleWavelength(float u, float& pdf) {
+    float a = 0.85691062f - 1.82750197f * u;
+    pdf = 0.0039398042f * (1.f - a * a);
+    return 538.f - 69.4444444f * std::log((1.f + a) / (1.f - a));  // atanh(a) = ½ log((1+a)/(1−a))
 }
 
 } // namespace effigi::warp

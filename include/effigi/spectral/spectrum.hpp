@@ -3,6 +3,7 @@
 // path's four wavelengths. One small tagged type covers every way a scene states a
 // colour (constant, RGB, tabulated, blackbody); no virtual call per sample.
 #include "effigi/math/vector.hpp"
+#include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/upsample.hpp"
 #include "effigi/spectral/wavelengths.hpp"
 
@@ -36,8 +37,24 @@ public:
     Type type() const { return m_type; }
 
     float operator()(float lambda) const;
+    /// Values at the path's wavelengths. Constant and RGB spectra (nearly every
+    /// parameter of a scene) are evaluated inline: this runs several times per bounce.
     SampledSpectrum sample(const SampledWavelengths& lambda) const {
         SampledSpectrum s;
+        if (m_type == Type::Constant) return SampledSpectrum(m_scale);
+        if (m_type == Type::RGB) {
+            // Branch-free over the four wavelengths so that it compiles to SIMD: the
+            // polynomial re-centred at 595 nm (small terms, float is enough), the sigmoid
+            // argument clamped so that ±inf coefficients (black, white) stay exact.
+            for (int i = 0; i < NSpectrumSamples; ++i) {
+                float t = lambda[i] - PolyCentre;
+                float x = std::min(std::max((m_a0 * t + m_a1) * t + m_a2, -1e15f), 1e15f);
+                s[i] = m_scale * (0.5f + 0.5f * x / std::sqrt(1.f + x * x));
+            }
+            if (m_illuminant)
+                for (int i = 0; i < NSpectrumSamples; ++i) s[i] *= cie::lookup(cie::D65, lambda[i]) * m_d65Scale;
+            return s;
+        }
         for (int i = 0; i < NSpectrumSamples; ++i) s[i] = (*this)(lambda[i]);
         return s;
     }
@@ -56,6 +73,10 @@ private:
     float m_scale = 1.f;
     RGBSigmoidPolynomial m_poly;  // RGB
     bool m_illuminant = false;    // RGB: multiply by normalised D65
+    float m_d65Scale = 1.f;       // cie::d65Normalization(), cached
+    static constexpr float PolyCentre = 595.f;
+    float m_a0 = 0.f, m_a1 = 0.f, m_a2 = 0.f;  // m_poly in powers of (λ − PolyCentre)
+    void setPoly(const RGBSigmoidPolynomial& p);
     float m_temperature = 0.f;    // Blackbody
     float m_bbNorm = 1.f;
     std::shared_ptr<const std::vector<float>> m_lambdas, m_values;  // Piecewise

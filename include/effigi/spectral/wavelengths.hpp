@@ -81,8 +81,7 @@ public:
         for (int i = 0; i < NSpectrumSamples; ++i) {
             float up = u + float(i) / NSpectrumSamples;
             if (up > 1.f) up -= 1.f;
-            w.m_lambda[i] = warp::sampleVisibleWavelength(up);
-            w.m_pdf[i] = warp::visibleWavelengthPdf(w.m_lambda[i]);
+            w.m_lambda[i] = warp::sampleVisibleWavelength(up, w.m_pdf[i]);
         }
         return w;
     }
