@@ -168,7 +168,7 @@ TEST_CASE("diffuse: sampled directions follow pdf() (chi-square)", "[bsdf]") {
     }
 }
 
-TEST_CASE("diffuse: albedo is the reflectance; the default albedo estimate agrees", "[bsdf]") {
+TEST_CASE("diffuse: albedo is the reflectance, the default albedo estimate agrees", "[bsdf]") {
     SurfaceInteraction si;
     auto lambda = SampledWavelengths::sampleVisible(0.5f);
     for (double rho : {0.0, 0.3, 1.0}) {

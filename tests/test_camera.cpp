@@ -54,7 +54,7 @@ TEST_CASE("perspective camera: orientation follows Mitsuba's conventions", "[cam
     auto cam = makeCamera(64, 64, {{"fov", 60.0}});
     Ray centre = rayAt(*cam, 32.f, 32.f);
     CHECK(centre.o.x == Approx(0.f).margin(1e-6));
-    CHECK(centre.o.z == Approx(3.9f));
+    CHECK(centre.o.z == Approx(3.9f - 0.01f));  // on the near plane (near_clip 0.01)
     CHECK(centre.d.x == Approx(0.f).margin(1e-6));
     CHECK(centre.d.y == Approx(0.f).margin(1e-6));
     CHECK(centre.d.z == Approx(-1.f));
@@ -74,14 +74,18 @@ TEST_CASE("perspective camera: orientation follows Mitsuba's conventions", "[cam
     CHECK(rayAt(*cam, 0.f, 32.f).d.x < 0.f);
 }
 
-TEST_CASE("perspective camera: rays are unit length and end at the far clip plane", "[camera]") {
-    auto cam = makeCamera(40, 30, {{"far_clip", 100.0}});
+TEST_CASE("perspective camera: rays are unit length and span the near to the far clip plane", "[camera]") {
+    auto cam = makeCamera(40, 30, {{"near_clip", 0.5}, {"far_clip", 100.0}});
+    Point3f eye = cam->toWorld().point(Point3f(0.f));
     for (float x : {0.f, 7.3f, 20.f, 40.f})
         for (float y : {0.f, 11.1f, 30.f}) {
             Ray r = rayAt(*cam, x, y);
+            float cosAxis = -r.d.z;  // this camera looks along world −z
             CHECK(length(r.d) == Approx(1.f).epsilon(1e-6));
-            CHECK(r.tMax * -r.d.z == Approx(100.f).epsilon(1e-5));  // far_clip / cos
-            CHECK(r.o == cam->toWorld().point(Point3f(0.f)));
+            // The origin lies on the near plane along the ray, the end on the far plane.
+            CHECK(length(r.o - eye) * cosAxis == Approx(0.5f).epsilon(1e-5));
+            CHECK(dot(normalize(r.o - eye), r.d) == Approx(1.f).epsilon(1e-6));
+            CHECK((r.tMax * cosAxis + 0.5f) == Approx(100.f).epsilon(1e-5));
         }
 }
 

@@ -143,6 +143,14 @@ TEST_CASE("cli: list and info come from the manifest and schemas", "[cli]") {
     CHECK(runApp("info bsdf/nothing").exitCode == 1);
 }
 
+TEST_CASE("cli: docs/components.md is what the schemas generate", "[cli]") {
+    AppResult md = runApp("info --markdown");
+    std::ifstream in(EFFIGI_SOURCE_DIR "/docs/components.md");
+    std::string committed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    INFO("regenerate with: make docs");
+    CHECK(md.out == committed);
+}
+
 TEST_CASE("cli: SIGINT writes the partial image", "[cli]") {
     fs::path dir = tempDir("cli-sigint");
     fs::path out = dir / "partial.exr";

@@ -103,7 +103,7 @@ TEST_CASE("area emitter: irradiance from a unit square matches Lambert's formula
     }
 }
 
-TEST_CASE("area emitter: sampleDirect pdf equals pdfDirect; eval is one-sided", "[emitter]") {
+TEST_CASE("area emitter: sampleDirect pdf equals pdfDirect, eval is one-sided", "[emitter]") {
     auto light = makeEmitter("area", {{"radiance", 3.0}});
     auto square = makeUnitSquare(light);
     light->preprocess(square->bbox());

@@ -211,3 +211,21 @@ TEST_CASE("registry: a missing or broken module is a clear error", "[registry]")
     CHECK(e.find("missing.so") != std::string::npos);
     fs::remove_all(dir);
 }
+
+TEST_CASE("tests: no test name contains a semicolon (ctest would split and skip it)", "[registry]") {
+    namespace fs = std::filesystem;
+    for (const auto& entry : fs::directory_iterator(EFFIGI_SOURCE_DIR "/tests")) {
+        if (entry.path().extension() != ".cpp") continue;
+        std::ifstream in(entry.path());
+        std::string line;
+        int n = 0;
+        while (std::getline(in, line)) {
+            ++n;
+            auto at = line.find("TEST_CASE(\"");
+            if (at == std::string::npos) continue;
+            auto end = line.find('"', at + 11);
+            INFO(entry.path().filename().string() << ":" << n);
+            CHECK(line.substr(at, end - at).find(';') == std::string::npos);
+        }
+    }
+}

@@ -111,10 +111,11 @@ public:
         Point2f q = s.pFilm / m_filmSize + m_offset;
         Vector3f local((1.f - 2.f * q.x) * m_tanHalf.x, (1.f - 2.f * q.y) * m_tanHalf.y, 1.f);
         local = normalize(local);
+        // Rays start on the near plane and end on the far plane (Mitsuba's clipping).
         Ray ray;
-        ray.o = m_origin;
         ray.d = normalize(m_toWorld.vector(local));
-        ray.tMax = m_far / local.z;
+        ray.o = m_origin + ray.d * (m_near / local.z);
+        ray.tMax = (m_far - m_near) / local.z;
         weight = SampledSpectrum(1.f);
         return ray;
     }

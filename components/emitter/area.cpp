@@ -21,18 +21,6 @@
 namespace effigi {
 namespace {
 
-/// Luminance Y (∫ L ȳ / ∫ ȳ) of a constant texture, read at 1 nm steps.
-float textureLuminance(const ITexture& tex) {
-    SurfaceInteraction si;
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < cie::TableSize; ++i) {
-        auto lambda = SampledWavelengths::constant(float(cie::TableStart + i));
-        num += double(tex.eval(si, lambda)[0]) * cie::Y[i];
-        den += cie::Y[i];
-    }
-    return den > 0.0 ? float(num / den) : 0.f;
-}
-
 class AreaEmitter final : public Implements<IEmitter> {
 public:
     static Schema schema() {
@@ -48,7 +36,8 @@ public:
     explicit AreaEmitter(const Properties& p) : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)) {
         // power() only needs a bound for choosing among lights: the exact luminance of a
         // constant radiance, the texture's maximum otherwise.
-        m_luminance = m_radiance->isConstant() ? textureLuminance(*m_radiance) : m_radiance->maxValue();
+        auto at = [&](float l) { return m_radiance->eval({}, SampledWavelengths::constant(l))[0]; };
+        m_luminance = m_radiance->isConstant() ? cie::luminance(at) : m_radiance->maxValue();
     }
 
     std::uint32_t flags() const override { return EmitterSurface; }

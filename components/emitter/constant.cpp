@@ -19,16 +19,6 @@
 namespace effigi {
 namespace {
 
-/// Luminance Y (∫ S ȳ / ∫ ȳ) of a spectrum, at 1 nm steps.
-float spectrumLuminance(const Spectrum& s) {
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < cie::TableSize; ++i) {
-        num += double(s(float(cie::TableStart + i))) * cie::Y[i];
-        den += cie::Y[i];
-    }
-    return den > 0.0 ? float(num / den) : 0.f;
-}
-
 class ConstantEmitter final : public Implements<IEmitter> {
 public:
     static Schema schema() {
@@ -41,7 +31,7 @@ public:
     }
 
     explicit ConstantEmitter(const Properties& p)
-        : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)), m_luminance(spectrumLuminance(m_radiance)) {}
+        : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)), m_luminance(cie::luminance(m_radiance)) {}
 
     std::uint32_t flags() const override { return EmitterInfinite; }
 

@@ -19,16 +19,6 @@
 namespace effigi {
 namespace {
 
-/// Luminance Y (∫ S ȳ / ∫ ȳ) of a spectrum, at 1 nm steps.
-float spectrumLuminance(const Spectrum& s) {
-    double num = 0.0, den = 0.0;
-    for (int i = 0; i < cie::TableSize; ++i) {
-        num += double(s(float(cie::TableStart + i))) * cie::Y[i];
-        den += cie::Y[i];
-    }
-    return den > 0.0 ? float(num / den) : 0.f;
-}
-
 class PointEmitter final : public Implements<IEmitter> {
 public:
     static Schema schema() {
@@ -55,7 +45,7 @@ public:
         if (!isFinite(m_position))
             failAt(p.whereOf(p.has("position") ? "position" : "to_world"), "{}: the position is not finite",
                    p.describe());
-        m_luminance = spectrumLuminance(m_intensity);
+        m_luminance = cie::luminance(m_intensity);
     }
 
     std::uint32_t flags() const override { return EmitterDeltaPosition; }

@@ -51,10 +51,14 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
         Point2i offset((tile % tilesX) * TileSize, (tile / tilesX) * TileSize);
         Vector2i extent(std::min(TileSize, size.x - offset.x), std::min(TileSize, size.y - offset.y));
         ImageBlock block = film.createBlock(offset, extent);
-        for (int y = offset.y; y < offset.y + extent.y; ++y)
-            for (int x = offset.x; x < offset.x + extent.x; ++x) pixel({x, y}, *ts.sampler, block, ts.stats);
+        // The stop request is checked per pixel so that SIGINT answers within one
+        // pixel's samples; a tile cut short is still merged.
+        std::uint64_t done = 0;
+        for (int y = offset.y; y < offset.y + extent.y && !control.stopRequested(); ++y)
+            for (int x = offset.x; x < offset.x + extent.x && !control.stopRequested(); ++x, ++done)
+                pixel({x, y}, *ts.sampler, block, ts.stats);
         film.put(block);
-        progress.update(std::uint64_t(extent.x) * extent.y * spp);
+        progress.update(done * spp);
     });
     progress.finish();
 

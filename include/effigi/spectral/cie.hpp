@@ -30,6 +30,16 @@ float yIntegral();
 /// 1 / ∫ D65(λ) ȳ(λ) dλ · ∫ ȳ dλ: scales D65 so that its luminance Y is 1.
 float d65Normalization();
 
+/// Luminance Y = ∫ S ȳ dλ / ∫ ȳ dλ of a spectral function S(λ), summed on the 1 nm grid.
+template <typename F> float luminance(F&& S) {
+    double num = 0.0, den = 0.0;
+    for (int i = 0; i < TableSize; ++i) {
+        num += double(S(float(TableStart + i))) * Y[i];
+        den += Y[i];
+    }
+    return float(num / den);
+}
+
 /// Monte Carlo estimate of XYZ = ∫ L x̄ / ∫ ȳ from four sampled wavelengths.
 inline Vector3f toXYZ(const SampledSpectrum& L, const SampledWavelengths& lambda) {
     SampledSpectrum pdf = lambda.pdf();
