@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace effigi::test {
 
@@ -25,9 +26,10 @@ inline AppResult runApp(const std::string& args) {
     return r;
 }
 
-/// A fresh directory under the system temp dir, removed by the caller's scope guard.
+/// A fresh directory under the system temp dir, unique to this process (ctest runs test
+/// cases in parallel processes); the caller removes it.
 inline std::filesystem::path tempDir(const std::string& name) {
-    auto dir = std::filesystem::temp_directory_path() / ("effigi-test-" + name);
+    auto dir = std::filesystem::temp_directory_path() / ("effigi-test-" + name + "-" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;

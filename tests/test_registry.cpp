@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <unistd.h>
 
 using namespace effigi;
 
@@ -194,7 +195,7 @@ TEST_CASE("registry: a scene loads only the modules it uses", "[registry]") {
 
 TEST_CASE("registry: a missing or broken module is a clear error", "[registry]") {
     namespace fs = std::filesystem;
-    fs::path dir = fs::temp_directory_path() / "effigi-test-broken-module";
+    fs::path dir = fs::temp_directory_path() / ("effigi-test-broken-module-" + std::to_string(getpid()));
     fs::create_directories(dir);
     {
         std::ofstream(dir / "manifest.txt") << "shape broken not-a-module.so\nshape gone missing.so\n";
