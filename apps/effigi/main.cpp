@@ -15,9 +15,14 @@ void usage() {
     std::fprintf(stderr,
                  "usage: effigi <command> [options]\n"
                  "  render scene.xml [-o out.exr] [-D name=value]... [-t threads] [-v] [--seed N] [--no-progress]\n"
+                 "         [--time seconds] [--spp N] [--target-relmse e] [--reference]   progressive\n"
+                 "  converge scene.xml [--reference ref.exr] [--renderer a,b] [--variant \"name: k=v ...\"]...\n"
+                 "         [-D name=value]... [--time seconds per configuration] [--spp N] [--out dir]\n"
                  "  list [tag]                 components known, by tag\n"
                  "  info tag/name              parameters of one component\n"
                  "  info --markdown            reference of every component (docs/components.md)\n"
+                 "  convert in.exr out.png|out.exr [--colorspace srgb|rec2020|acescg] [--exposure e]\n"
+                 "          [--tonemap none|reinhard|filmic] [--reconstruction linear|box]   spectral EXR -> RGB\n"
                  "  version\n");
 }
 
@@ -34,6 +39,8 @@ int main(int argc, char** argv) {
         if (cmd == "render") return effigi::app::render(args);
         if (cmd == "list") return effigi::app::list(args);
         if (cmd == "info") return effigi::app::info(args);
+        if (cmd == "convert") return effigi::app::convert(args);
+        if (cmd == "converge") return effigi::app::converge(args);
         if (cmd == "version") {
             std::printf("effigi %s\n", effigi::version());
             return 0;

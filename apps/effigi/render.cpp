@@ -5,10 +5,12 @@
 #include "effigi/core/module.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/isampler.hpp"
+#include "effigi/render/progressive.hpp"
 #include "effigi/xml/loader.hpp"
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <sys/resource.h>
@@ -35,6 +37,16 @@ long parseLong(const std::string& opt, const std::string& v) {
     fail("option {} expects an integer, got '{}'", opt, v);
 }
 
+double parseDouble(const std::string& opt, const std::string& v) {
+    try {
+        std::size_t used = 0;
+        double r = std::stod(v, &used);
+        if (used == v.size() && r > 0.0 && std::isfinite(r)) return r;
+    } catch (const std::exception&) {
+    }
+    fail("option {} expects a positive number, got '{}'", opt, v);
+}
+
 double peakMemoryMiB() {
     rusage ru{};
     getrusage(RUSAGE_SELF, &ru);
@@ -47,7 +59,8 @@ int render(const std::vector<std::string>& args) {
     std::string scenePath, outPath;
     xml::ParseOptions opt;
     RenderControl control;
-    bool verbose = false;
+    ProgressiveOptions prog;
+    bool verbose = false, progressive = false, reference = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "-o") outPath = needValue(args, i);
@@ -59,6 +72,11 @@ int render(const std::vector<std::string>& args) {
         } else if (a == "-t") control.threads = int(parseLong(a, needValue(args, i)));
         else if (a == "--seed") control.seed = std::uint64_t(parseLong(a, needValue(args, i)));
         else if (a == "-v") verbose = true;
+        else if (a == "--time") prog.timeBudget = parseDouble(a, needValue(args, i)), progressive = true;
+        else if (a == "--spp") prog.spp = std::uint64_t(parseLong(a, needValue(args, i))), progressive = true;
+        else if (a == "--target-relmse")
+            prog.targetRelMSE = parseDouble(a, needValue(args, i)), progressive = true;
+        else if (a == "--reference") reference = true;
         else if (a == "--no-progress") control.progress = false;
         else if (!a.empty() && a[0] == '-') fail("render: unknown option '{}'", a);
         else if (scenePath.empty()) scenePath = a;
@@ -76,14 +94,27 @@ int render(const std::vector<std::string>& args) {
     std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    RenderStats stats = scene->renderer().render(*scene, control);
+    RenderStats stats;
+    std::uint64_t spp = scene->camera().sampler().samplesPerPixel();
+    double estimate = -1.0;
+    if (progressive) {
+        prog.progress = control.progress;
+        stats = renderProgressive(*scene, control, prog, [&](const PassReport& r) {
+            spp = r.spp;
+            estimate = r.estimatedRelMSE;
+            return true;
+        });
+    } else {
+        stats = scene->renderer().render(*scene, control);
+    }
     std::signal(SIGINT, SIG_DFL);
 
     IFilm& film = scene->camera().film();
     FilmMetadata meta{{"effigi/version", version()},
                       {"effigi/scene", std::filesystem::absolute(scenePath).string()},
                       {"effigi/renderer", scene->renderer().typeName()},
-                      {"effigi/spp", std::to_string(scene->camera().sampler().samplesPerPixel())},
+                      {"effigi/spp", std::to_string(spp)},
+                      {"effigi/reference", reference ? "true" : "false"},
                       {"effigi/samples", std::to_string(stats.samples)},
                       {"effigi/seconds", fmt::format("{:.3f}", stats.seconds)},
                       {"effigi/interrupted", stats.interrupted ? "true" : "false"}};
@@ -102,6 +133,9 @@ int render(const std::vector<std::string>& args) {
                 stats.seconds > 0 ? double(stats.samples) / stats.seconds * 1e-6 : 0.0,
                 (unsigned long long)stats.rejectedSamples, peakMemoryMiB(),
                 stats.interrupted ? " (interrupted: partial image)" : "");
+    if (prog.targetRelMSE > 0.0)
+        std::printf("estimated relMSE %.3g (target %.3g) reached after %.2f s at %llu spp\n", estimate,
+                    prog.targetRelMSE, stats.seconds, (unsigned long long)spp);
     return stats.interrupted ? 130 : 0;
 }
 

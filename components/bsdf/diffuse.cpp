@@ -26,6 +26,10 @@ public:
         s.texture("reflectance", 0.5f, SpectrumKind::Reflectance,
                   "Albedo ρ (spectrum or texture); f = ρ/π above the surface")
             .range(0.0, 1.0);
+        s.addConformance({"default", {}});
+        s.addConformance({"black", {{"reflectance", 0.0}}});
+        s.addConformance({"white", {{"reflectance", 1.0}}});
+        s.addConformance({"saturated rgb", {{"reflectance", RGBValue{{0.98f, 0.02f, 0.01f}}}}});
         return s;
     }
 

@@ -8,7 +8,11 @@
 // picks a point by area and a cosine-weighted direction about the normal.
 //
 // Parameters:
-//   radiance  texture (illuminant spectrum, default 1)  emitted radiance [W m^-2 sr^-1]
+//   radiance   texture (illuminant spectrum, default 1)  emitted radiance [W m^-2 sr^-1]
+//   scale      float ≥ 0 (default 1)  factor on the radiance
+//   luminance  float ≥ 0 (optional)   scale a constant radiance to this luminance Y
+//   power      float ≥ 0 (optional)   scale a constant radiance to this radiant flux [W],
+//              Φ = π · A · ∫ L dλ over 360–830 nm (excludes luminance)
 //
 // Reference: pbrt-v4 §12.2 (diffuse area lights); Glassner's Spectrum (any geometry emits).
 #include "effigi/core/registry.hpp"
@@ -17,6 +21,7 @@
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/math/warp_functions.hpp"
 #include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/emission_scale.hpp"
 
 namespace effigi {
 namespace {
@@ -30,14 +35,21 @@ public:
                   "Emitted radiance (spectrum or texture), on the side of the geometric normal")
             .atLeast(0.0)
             .withUnit("W m^-2 sr^-1");
+        EmissionScale::declare(s, "Scale a constant radiance to this luminance", "W m^-2 sr^-1",
+                               "Scale a constant radiance so that the light emits the flux π · area · ∫L dλ");
         return s;
     }
 
-    explicit AreaEmitter(const Properties& p) : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)) {
+    explicit AreaEmitter(const Properties& p)
+        : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true) {
+        if (m_emission.mode() != EmissionScale::Mode::Factor && !m_radiance->isConstant())
+            failAt(p.whereOf(m_emission.mode() == EmissionScale::Mode::Power ? "power" : "luminance"),
+                   "{}: 'luminance' and 'power' need a constant radiance, not a texture", p.describe());
         // power() only needs a bound for choosing among lights: the exact luminance of a
         // constant radiance, the texture's maximum otherwise.
-        auto at = [&](float l) { return m_radiance->eval({}, SampledWavelengths::constant(l))[0]; };
-        m_luminance = m_radiance->isConstant() ? cie::luminance(at) : m_radiance->maxValue();
+        m_luminance = m_radiance->isConstant() ? cie::luminance(radiance()) : m_radiance->maxValue();
+        // The power target needs the shape's area: preprocess() sets the factor then.
+        if (m_emission.mode() != EmissionScale::Mode::Power) m_scale = m_emission.factor(radiance());
     }
 
     std::uint32_t flags() const override { return EmitterSurface; }
@@ -51,11 +63,13 @@ public:
 
     void preprocess(const BBox3f&) override {
         if (!m_shape) fail("area emitter must be nested in a shape");
+        if (m_emission.mode() == EmissionScale::Mode::Power)
+            m_scale = m_emission.factor(radiance(), Pi * m_shape->area());
     }
 
     SampledSpectrum eval(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
         if (!(dot(si.n, si.wo) > 0.f)) return SampledSpectrum(0.f);
-        return m_radiance->eval(si, lambda);
+        return m_radiance->eval(si, lambda) * m_scale;
     }
 
     EmitterSample sampleDirect(const Point3f& ref, const Point2f& u,
@@ -70,7 +84,7 @@ public:
         // The back side emits nothing; a zero pdf tells the caller to skip the sample.
         if (!(ds.pdf > 0.f) || !std::isfinite(ds.pdf) || !(dot(ds.n, -ds.wi) > 0.f)) return es;
         es.pdf = ds.pdf;
-        es.L = m_radiance->eval(pointOf(ds, -ds.wi), lambda);
+        es.L = m_radiance->eval(pointOf(ds, -ds.wi), lambda) * m_scale;
         return es;
     }
 
@@ -92,15 +106,20 @@ public:
         es.pdfPosition = ps.pdf;
         es.pdfDirection = warp::squareToCosineHemispherePdf(local);
         if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f)) return es;
-        es.L = m_radiance->eval(pointOf(ps, d), lambda);
+        es.L = m_radiance->eval(pointOf(ps, d), lambda) * m_scale;
         return es;
     }
 
     /// Φ = π · A · L for a Lambertian emitter of constant radiance L (luminance-weighted).
-    float power() const override { return m_shape ? Pi * m_shape->area() * m_luminance : 0.f; }
+    float power() const override { return m_shape ? Pi * m_shape->area() * m_luminance * m_scale : 0.f; }
 
 private:
     std::string name() const { return typeName().empty() ? std::string("emitter 'area'") : typeName(); }
+
+    /// The unscaled radiance as a function of wavelength (constant textures only).
+    std::function<float(float)> radiance() const {
+        return [t = m_radiance](float l) { return t->eval({}, SampledWavelengths::constant(l))[0]; };
+    }
 
     /// The surface point a texture is evaluated at.
     SurfaceInteraction pointOf(const PositionSample& ps, const Vector3f& wo) const {
@@ -116,6 +135,8 @@ private:
 
     Ref<ITexture> m_radiance;
     const IShape* m_shape = nullptr;
+    EmissionScale m_emission;
+    float m_scale = 1.f;  // scale · luminance/power normalisation
     float m_luminance = 0.f;
 };
 

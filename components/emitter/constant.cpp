@@ -7,13 +7,17 @@
 // light tracing covers the whole scene with parallel rays.
 //
 // Parameters:
-//   radiance  spectrum (illuminant, default 1)  radiance of the environment [W m^-2 sr^-1]
+//   radiance   spectrum (illuminant, default 1)  radiance of the environment [W m^-2 sr^-1]
+//   scale      float ≥ 0 (default 1)  factor on the radiance
+//   luminance  float ≥ 0 (optional)   scale the radiance to this luminance Y
+//   power      not supported (an environment at infinity has no finite power): an error
 //
 // Reference: pbrt-v4 §12.5.1 (uniform infinite lights).
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/math/warp_functions.hpp"
 #include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
 
 namespace effigi {
@@ -27,11 +31,14 @@ public:
         s.spectrum("radiance", 1.f, SpectrumKind::Illuminant, "Radiance arriving from every direction")
             .atLeast(0.0)
             .withUnit("W m^-2 sr^-1");
+        EmissionScale::declare(s, "Scale the radiance to this luminance", "W m^-2 sr^-1", "");
         return s;
     }
 
-    explicit ConstantEmitter(const Properties& p)
-        : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)), m_luminance(cie::luminance(m_radiance)) {}
+    explicit ConstantEmitter(const Properties& p) : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)) {
+        m_radiance = m_radiance.scaled(EmissionScale(p, false).factor(m_radiance));
+        m_luminance = cie::luminance(m_radiance);
+    }
 
     std::uint32_t flags() const override { return EmitterInfinite; }
 
@@ -88,7 +95,7 @@ public:
 
 private:
     Spectrum m_radiance;
-    float m_luminance;
+    float m_luminance = 0.f;
     Point3f m_center{0.f};
     float m_radius = 1.f;
 };

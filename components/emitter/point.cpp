@@ -8,12 +8,17 @@
 //   position   point      where the light is (alternatively: the translation of to_world)
 //   to_world   transform  placement; only its translation matters
 //   intensity  spectrum (illuminant, default 1)  radiant intensity [W sr^-1]
+//   scale      float ≥ 0 (default 1)  factor on the intensity
+//   luminance  float ≥ 0 (optional)   scale the intensity to this luminous intensity Y
+//   power      float ≥ 0 (optional)   scale the intensity to this radiant flux [W],
+//              Φ = 4π ∫ I dλ over 360–830 nm (excludes luminance)
 //
 // Reference: pbrt-v4 §12.1.1 (point lights).
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/math/warp_functions.hpp"
 #include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
 
 namespace effigi {
@@ -29,6 +34,8 @@ public:
         s.spectrum("intensity", 1.f, SpectrumKind::Illuminant, "Radiant intensity, the same in every direction")
             .atLeast(0.0)
             .withUnit("W sr^-1");
+        EmissionScale::declare(s, "Scale the intensity to this luminous intensity", "W sr^-1",
+                               "Scale the intensity so that the light emits the flux 4π ∫I dλ");
         return s;
     }
 
@@ -45,6 +52,8 @@ public:
         if (!isFinite(m_position))
             failAt(p.whereOf(p.has("position") ? "position" : "to_world"), "{}: the position is not finite",
                    p.describe());
+        EmissionScale emission(p, true);
+        m_intensity = m_intensity.scaled(emission.factor(m_intensity, 4.f * Pi));
         m_luminance = cie::luminance(m_intensity);
     }
 

@@ -1,13 +1,20 @@
 /*
  * film "hdrfilm" — a high-dynamic-range film: accumulates filtered samples and writes
- * OpenEXR (plus an 8-bit sRGB PNG preview beside it).
+ * OpenEXR (plus an 8-bit sRGB PNG preview beside it, and optionally a spectral EXR).
  *
  * Each pixel stores its channels' filter-weighted sums and the weight sum; develop()
  * divides them (the weighted average of Mitchell & Netravali 1988 / pbrt's film,
  * a 0 weight gives 0). Renderers splat spectral radiance as CIE XYZ into channels
- * "X","Y","Z"; developing converts them to linear sRGB (IEC 61966-2-1) for pixel_format
- * rgb/rgba, keeps XYZ for xyz and Y for luminance. Any further channels (AOVs, e.g.
- * "albedo.R") are written as they are, under their names.
+ * "X","Y","Z"; developing converts them to linear RGB of `colorspace` (sRGB/Rec.709,
+ * Rec.2020 or ACEScg; effigi/spectral/colorspace.hpp) for pixel_format rgb/rgba, keeps
+ * XYZ for xyz and Y for luminance. Any further channels (AOVs, e.g. "albedo.R") are
+ * written as they are, under their names.
+ *
+ * Spectral output: with spectral_bins = N > 0 the film asks renderers (IFilm::spectralBins)
+ * for N bin channels over [spectral_min, spectral_max] and writes them to <name>.spectral.exr
+ * beside the output (out.exr -> out.spectral.exr) in the layout of Fichet, Pacanowski,
+ * Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3), 2021 (spectral_exr.hpp).
+ * The PNG is display-referred sRGB whatever `colorspace` is: exposure, then `tonemap`.
  *
  * Parameters (Mitsuba 3 compatible):
  *   width, height          int, 768 x 576        full film size in pixels
@@ -19,31 +26,35 @@
  *   file_format            openexr
  *   png                    bool, true            also write <name>.png beside <name>.exr
  *   exposure               float, 0              PNG exposure in stops (EXR is never scaled)
+ *   colorspace             srgb | rec2020 | acescg  primaries of the RGB outputs (EXR)
+ *   tonemap                none | reinhard | filmic PNG tone map (effigi/render/tonemap.hpp)
+ *   spectral_bins          int, 0 (off), ≤ 128   bins of the spectral EXR
+ *   spectral_min/_max      float, 360 / 830 nm   wavelength range of the bins
  *   rfilter                nested filter, default gaussian
  * Reference: D. P. Mitchell, A. N. Netravali, "Reconstruction Filters in Computer
  * Graphics", SIGGRAPH 1988; OpenEXR file layout, https://openexr.com.
  */
-#include "hdrfilm_io.hpp"
+#include "film_storage.hpp"
+#include "spectral_exr.hpp"
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/ifilter.hpp"
 
-#include <fmt/ranges.h>
-
 #include <algorithm>
 #include <cctype>
-#include <mutex>
-#include <set>
+#include <memory>
 
 namespace effigi {
 namespace {
 
-enum class PixelFormat { RGB, RGBA, XYZ, Luminance };
+using hdrfilm_io::PixelFormat;
 
 const std::vector<std::string> PixelFormats{"rgb", "rgba", "xyz", "luminance"};
 const std::vector<std::string> ComponentFormats{"float16", "float32"};
 const std::vector<std::string> FileFormats{"openexr"};
+const std::vector<std::string> ColorSpaces(RGBColorSpace::names().begin(), RGBColorSpace::names().end());
+const std::vector<std::string> ToneMaps(tonemap::names().begin(), tonemap::names().end());
 
 /// Index of a string parameter's value among its choices, or an error listing them.
 std::size_t choose(const Properties& p, const std::string& name, const std::vector<std::string>& choices) {
@@ -71,6 +82,18 @@ public:
         s.string("file_format", "openexr", "Output file format").oneOf(FileFormats);
         s.boolean("png", true, "Also write an 8-bit sRGB PNG beside the EXR");
         s.real("exposure", 0.0, "Exposure of the PNG (scale 2^exposure)").withUnit("stops").range(-64.0, 64.0);
+        s.string("colorspace", "srgb", "RGB primaries of the EXR: srgb (Rec.709), rec2020 or acescg (AP1)")
+            .oneOf(ColorSpaces);
+        s.string("tonemap", "none", "Tone map of the PNG: none (clamp), reinhard (2002) or filmic (ACES fit)")
+            .oneOf(ToneMaps);
+        s.integer("spectral_bins", 0, "Bins of a spectral EXR <name>.spectral.exr (0: none)")
+            .range(0, SpectralBinning::MaxBins);
+        s.real("spectral_min", double(LambdaMin), "Shortest wavelength of the spectral bins")
+            .withUnit("nm")
+            .range(double(LambdaMin), double(LambdaMax));
+        s.real("spectral_max", double(LambdaMax), "Longest wavelength of the spectral bins")
+            .withUnit("nm")
+            .range(double(LambdaMin), double(LambdaMax));
         s.child("rfilter", "rfilter", "Reconstruction filter (default: gaussian)");
         return s;
     }
@@ -90,13 +113,27 @@ public:
         checkCrop(p, "crop_width", m_size.x, 1, m_fullSize.x - m_cropOffset.x);
         checkCrop(p, "crop_height", m_size.y, 1, m_fullSize.y - m_cropOffset.y);
 
-        m_format = PixelFormat(choose(p, "pixel_format", PixelFormats));
+        const auto format = PixelFormat(choose(p, "pixel_format", PixelFormats));
         m_half = choose(p, "component_format", ComponentFormats) == 0;
         choose(p, "file_format", FileFormats);
         m_png = p.getBool("png");
         m_exposure = p.getFloat("exposure");
         if (!std::isfinite(m_exposure))
             failAt(p.whereOf("exposure"), "{}: 'exposure' must be finite", p.describe());
+        choose(p, "colorspace", ColorSpaces);
+        choose(p, "tonemap", ToneMaps);
+        const RGBColorSpace& colorSpace = RGBColorSpace::get(RGBColorSpace::parse(p.getString("colorspace")).value());
+        m_toneMap = tonemap::parse(p.getString("tonemap")).value();
+        const float lo = p.getFloat("spectral_min"), hi = p.getFloat("spectral_max");
+        if (!(lo < hi))
+            failAt(p.whereOf("spectral_min"),
+                   "{}: 'spectral_min' ({} nm) must be below 'spectral_max' ({} nm)", p.describe(), lo, hi);
+        const std::int64_t bins = p.getInt("spectral_bins");
+        if (bins < 0 || bins > SpectralBinning::MaxBins)
+            failAt(p.whereOf("spectral_bins"), "{}: 'spectral_bins' = {} is not in [0, {}]", p.describe(), bins,
+                   SpectralBinning::MaxBins);
+        m_storage = std::make_unique<hdrfilm_io::FilmStorage>(m_size, format, colorSpace,
+                                                              SpectralBinning(int(bins), lo, hi));
 
         m_filter = p.get<IFilter>("rfilter");
         if (!m_filter) {
@@ -111,92 +148,17 @@ public:
     Vector2i fullSize() const override { return m_fullSize; }
     Point2i cropOffset() const override { return m_cropOffset; }
     const IFilter& filter() const override { return *m_filter; }
-
-    void prepare(const std::vector<std::string>& channels) override {
-        std::set<std::string> seen;
-        for (const std::string& c : channels)
-            if (c.empty() || !seen.insert(c).second)
-                fail("film: channel names must be unique and non-empty (got '{}')", fmt::join(channels, ", "));
-        const bool xyz = channels.size() >= 3 && channels[0] == "X" && channels[1] == "Y" && channels[2] == "Z";
-        std::vector<std::string> out;
-        if (xyz) {
-            switch (m_format) {
-            case PixelFormat::RGB: out = {"R", "G", "B"}; break;
-            case PixelFormat::RGBA: out = {"R", "G", "B", "A"}; break;
-            case PixelFormat::XYZ: out = {"X", "Y", "Z"}; break;
-            case PixelFormat::Luminance: out = {"Y"}; break;
-            }
-        }
-        out.insert(out.end(), channels.begin() + (xyz ? 3 : 0), channels.end());
-        seen.clear();
-        for (const std::string& c : out)
-            if (!seen.insert(c).second) fail("film: AOV channel '{}' clashes with a colour channel", c);
-
-        std::lock_guard lock(m_mutex);
-        m_xyz = xyz;
-        m_channels = channels;
-        m_outputNames = std::move(out);
-        m_data.assign(std::size_t(m_size.x) * std::size_t(m_size.y) * (channels.size() + 1), 0.f);
+    int spectralBins() const override { return m_storage->bins().count(); }
+    std::pair<float, float> spectralRange() const override {
+        return {m_storage->bins().lambdaMin(), m_storage->bins().lambdaMax()};
     }
 
+    void prepare(const std::vector<std::string>& channels) override { m_storage->prepare(channels); }
     ImageBlock createBlock(Point2i offset, Vector2i size) const override {
-        return ImageBlock(offset, size, int(m_channels.size()), &m_table);
+        return ImageBlock(offset, size, m_storage->channels(), &m_table);
     }
-
-    void put(const ImageBlock& block) override {
-        const int n = block.stride();
-        if (block.channels() != int(m_channels.size()))
-            fail("film: block has {} channels, the film was prepared with {}", block.channels(), m_channels.size());
-        // The block's stored rectangle (border included), clipped to the crop window.
-        const Point2i lo = block.offset() - block.border();
-        const Point2i hi = lo + block.storageSize();
-        const int x0 = std::max(lo.x, 0), x1 = std::min(hi.x, m_size.x);
-        const int y0 = std::max(lo.y, 0), y1 = std::min(hi.y, m_size.y);
-        if (x0 >= x1 || y0 >= y1) return;
-        const std::size_t count = std::size_t(x1 - x0) * std::size_t(n);
-        std::lock_guard lock(m_mutex);
-        for (int y = y0; y < y1; ++y) {
-            const float* src = block.pixel(x0, y);
-            float* dst = m_data.data() + (std::size_t(y) * std::size_t(m_size.x) + std::size_t(x0)) * std::size_t(n);
-            for (std::size_t k = 0; k < count; ++k) dst[k] += src[k];
-        }
-    }
-
-    Image develop() const override {
-        std::lock_guard lock(m_mutex);
-        Image img;
-        img.width = m_size.x;
-        img.height = m_size.y;
-        img.channelNames = m_outputNames;
-        const std::size_t in = m_channels.size(), stride = in + 1, out = m_outputNames.size();
-        const std::size_t pixels = std::size_t(m_size.x) * std::size_t(m_size.y);
-        if (m_data.size() != pixels * stride) return img;  // not prepared
-        img.pixels.resize(pixels * out);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const float* src = m_data.data() + i * stride;
-            float* dst = img.pixels.data() + i * out;
-            const float w = src[in];
-            const float inv = w != 0.f ? 1.f / w : 0.f;
-            std::size_t first = 0, o = 0;
-            if (m_xyz) {
-                const Vector3f xyz = Vector3f(src[0], src[1], src[2]) * inv;
-                switch (m_format) {
-                case PixelFormat::RGB:
-                case PixelFormat::RGBA: {
-                    const Vector3f rgb = xyzToLinearSRGB(xyz);
-                    dst[o++] = rgb.x, dst[o++] = rgb.y, dst[o++] = rgb.z;
-                    if (m_format == PixelFormat::RGBA) dst[o++] = 1.f;
-                    break;
-                }
-                case PixelFormat::XYZ: dst[o++] = xyz.x, dst[o++] = xyz.y, dst[o++] = xyz.z; break;
-                case PixelFormat::Luminance: dst[o++] = xyz.y; break;
-                }
-                first = 3;
-            }
-            for (std::size_t c = first; c < in; ++c) dst[o++] = src[c] * inv;
-        }
-        return img;
-    }
+    void put(const ImageBlock& block) override { m_storage->put(block); }
+    Image develop() const override { return m_storage->develop(); }
 
     std::vector<std::filesystem::path> write(const std::filesystem::path& path, const FilmMetadata& meta) const override {
         std::filesystem::path main = path;
@@ -208,15 +170,23 @@ public:
 
         const Image img = develop();
         std::vector<std::filesystem::path> written;
+        const std::filesystem::path spectral = spectral_exr::spectralPath(main);
         if (ext == ".exr") {
-            const bool rgb = m_xyz && (m_format == PixelFormat::RGB || m_format == PixelFormat::RGBA);
-            hdrfilm_io::writeExr(main, img, m_half, rgb, meta);
+            const PixelFormat f = m_storage->format();
+            const bool rgb = m_storage->hasXYZ() && (f == PixelFormat::RGB || f == PixelFormat::RGBA);
+            hdrfilm_io::writeExr(main, img, m_half, rgb ? &m_storage->colorSpace() : nullptr, meta);
             written.push_back(main);
-            if (!m_png) return written;
             main.replace_extension(".png");
         }
-        writePreview(main, img, meta);
-        written.push_back(main);
+        if (ext == ".png" || m_png) {
+            writePreview(main, img, meta);
+            written.push_back(main);
+        }
+        if (m_storage->hasBins()) {
+            spectral_exr::writeFile(spectral, m_storage->developSpectral(), m_storage->colorSpace(),
+                                    m_storage->bins(), meta);
+            written.push_back(spectral);
+        }
         return written;
     }
 
@@ -227,12 +197,17 @@ private:
                    p.describe(), name, v, p.getInt("width"), p.getInt("height"), lo, hi);
     }
 
-    /// The PNG shows the colour: linear sRGB (XYZ converted for pixel_format xyz), grey
-    /// for luminance; without XYZ the first three channels, or the first as grey.
+    /// The PNG shows the colour as sRGB whatever the colour space: RGB converted through
+    /// XYZ, XYZ converted, grey for luminance; without XYZ the first three channels, or
+    /// the first as grey. Exposure and the tone map apply here only.
     void writePreview(const std::filesystem::path& path, const Image& img, const FilmMetadata& meta) const {
-        const int nc = m_xyz ? (m_format == PixelFormat::Luminance ? 1 : 3)
-                             : (img.channels() >= 3 ? 3 : std::min(img.channels(), 1));
-        const bool fromXYZ = m_xyz && m_format == PixelFormat::XYZ;
+        const bool xyz = m_storage->hasXYZ();
+        const PixelFormat format = m_storage->format();
+        const RGBColorSpace& cs = m_storage->colorSpace();
+        const int nc = xyz ? (format == PixelFormat::Luminance ? 1 : 3)
+                           : (img.channels() >= 3 ? 3 : std::min(img.channels(), 1));
+        const bool fromXYZ = xyz && format == PixelFormat::XYZ;
+        const bool fromRGB = xyz && !fromXYZ && &cs != &RGBColorSpace::get(ColorSpaceId::SRGB);
         std::vector<float> linear(std::size_t(img.width) * std::size_t(img.height) * std::size_t(nc));
         for (int y = 0; y < img.height; ++y)
             for (int x = 0; x < img.width; ++x) {
@@ -240,24 +215,23 @@ private:
                 if (nc == 3) {
                     Vector3f v(img.at(x, y, 0), img.at(x, y, 1), img.at(x, y, 2));
                     if (fromXYZ) v = xyzToLinearSRGB(v);
+                    if (fromRGB) v = xyzToLinearSRGB(cs.toXYZ(v));
                     d[0] = v.x, d[1] = v.y, d[2] = v.z;
                 } else if (nc == 1) {
                     d[0] = img.at(x, y, 0);
                 }
             }
-        hdrfilm_io::writePng(path, img.width, img.height, nc, linear, m_exposure, meta);
+        hdrfilm_io::writePng(path, img.width, img.height, nc, linear, m_exposure, m_toneMap, meta);
     }
 
     Vector2i m_fullSize{0}, m_size{0};
     Point2i m_cropOffset{0};
-    PixelFormat m_format = PixelFormat::RGB;
-    bool m_half = true, m_png = true, m_xyz = false;
+    bool m_half = true, m_png = true;
     float m_exposure = 0.f;
+    ToneMap m_toneMap = ToneMap::None;
     Ref<IFilter> m_filter;
     FilterTable m_table;
-    std::vector<std::string> m_channels, m_outputNames;
-    std::vector<float> m_data;
-    mutable std::mutex m_mutex;
+    std::unique_ptr<hdrfilm_io::FilmStorage> m_storage;  // channels, sums, development
 };
 
 } // namespace

@@ -1,10 +1,11 @@
 #pragma once
-// Image file output for the hdrfilm module: OpenEXR through the OpenEXR library and
-// 8-bit PNG through OpenImageIO. Kept in the module (not libeffigi) so the core library
-// links neither. Header-only because components/<tag>/*.cpp each become a module.
+// Image file output for the hdrfilm module and `effigi convert`: OpenEXR through the
+// OpenEXR library and 8-bit PNG through OpenImageIO. Kept out of libeffigi so the core
+// library links neither. Header-only because components/<tag>/*.cpp each become a module.
 #include "effigi/core/error.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/interfaces/ifilm.hpp"
+#include "effigi/render/tonemap.hpp"
 #include "effigi/spectral/colorspace.hpp"
 
 #include <Imath/half.h>
@@ -44,16 +45,25 @@ inline void checkDirectory(const fs::path& path) {
 }
 
 /// OpenEXR, ZIP-compressed, one channel per image channel (HALF or FLOAT), metadata as
-/// string attributes. `rgb` adds the sRGB/Rec.709 chromaticities.
-inline void writeExr(const fs::path& path, const Image& img, bool half, bool rgb, const FilmMetadata& meta) {
+/// string attributes. A non-null `rgb` adds that colour space's chromaticities (primaries
+/// and white) and an "effigi/colorspace" attribute naming it.
+inline void writeExr(const fs::path& path, const Image& img, bool half, const RGBColorSpace* rgb,
+                     const FilmMetadata& meta) {
     checkDirectory(path);
     if (img.channels() == 0 || img.width <= 0 || img.height <= 0)
         cannotWrite(path, "the film holds no image (prepare() was not called)");
     try {
         Imf::Header header(img.width, img.height);
         header.compression() = Imf::ZIP_COMPRESSION;
-        if (rgb) Imf::addChromaticities(header, Imf::Chromaticities());  // Rec.709 primaries, D65
-        for (const auto& [key, value] : meta) {
+        FilmMetadata attributes = meta;
+        if (rgb) {
+            const auto& p = rgb->primaries();
+            const colorimetry::Chromaticity w = rgb->whiteXY();
+            auto v2 = [](colorimetry::Chromaticity c) { return Imath::V2f(float(c.x), float(c.y)); };
+            Imf::addChromaticities(header, Imf::Chromaticities(v2(p[0]), v2(p[1]), v2(p[2]), v2(w)));
+            attributes.emplace("effigi/colorspace", rgb->name());
+        }
+        for (const auto& [key, value] : attributes) {
             if (key.empty() || header.find(key) != header.end()) {
                 log::warn("{}: metadata key '{}' clashes with a standard EXR attribute; skipped", path.string(), key);
                 continue;
@@ -90,18 +100,22 @@ inline void writeExr(const fs::path& path, const Image& img, bool half, bool rgb
     }
 }
 
-/// 8-bit sRGB PNG of 1 (grey) or 3 (RGB) linear channels, scaled by 2^exposure and
-/// clamped to [0, 1]; metadata as text chunks.
+/// 8-bit sRGB PNG of 1 (grey) or 3 (linear sRGB) channels: scaled by 2^exposure, tone
+/// mapped into [0, 1] (effigi/render/tonemap.hpp), sRGB-encoded; metadata as text chunks.
 inline void writePng(const fs::path& path, int width, int height, int channels, const std::vector<float>& linear,
-                     float exposure, const FilmMetadata& meta) {
+                     float exposure, ToneMap toneMap, const FilmMetadata& meta) {
     checkDirectory(path);
-    if (channels <= 0 || width <= 0 || height <= 0) cannotWrite(path, "the film holds no image");
-    const float scale = std::exp2(exposure);
+    if ((channels != 1 && channels != 3) || width <= 0 || height <= 0) cannotWrite(path, "the film holds no image");
+    const Vector3f luma = RGBColorSpace::get(ColorSpaceId::SRGB).luminanceWeights();
     std::vector<std::uint8_t> bytes(linear.size());
-    for (std::size_t i = 0; i < linear.size(); ++i) {
-        float v = linear[i] * scale;
-        v = std::isfinite(v) ? std::clamp(srgbEncode(std::max(v, 0.f)), 0.f, 1.f) : 0.f;
-        bytes[i] = std::uint8_t(std::lround(v * 255.f));
+    auto encode = [](float v) { return std::uint8_t(std::lround(std::clamp(srgbEncode(v), 0.f, 1.f) * 255.f)); };
+    for (std::size_t i = 0; i + std::size_t(channels) <= linear.size(); i += std::size_t(channels)) {
+        if (channels == 3) {
+            Vector3f v = tonemap::apply(toneMap, Vector3f(linear[i], linear[i + 1], linear[i + 2]), exposure, luma);
+            for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = encode(v[c]);
+        } else {
+            bytes[i] = encode(tonemap::applyGrey(toneMap, linear[i], exposure));
+        }
     }
     auto out = OIIO::ImageOutput::create(path.string());
     if (!out) cannotWrite(path, OIIO::geterror());

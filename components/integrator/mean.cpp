@@ -25,12 +25,14 @@ public:
     static Schema schema() {
         Schema s("integrator", "mean", "Mean-sample Monte Carlo: sample mean with its standard error.");
         s.cite("B. P. Welford, Technometrics 4(3), 1962 (running variance)");
+        s.addConformance({"default", {}});
         return s;
     }
 
     explicit MeanIntegrator(const Properties&) {}
 
-    Estimate integrate(IFunction& f, ISampler& sampler, std::uint64_t budget) const override {
+    using IIntegrator::integrate;
+    Estimate integrate(IFunction& f, ISampler& sampler, std::uint64_t first, std::uint64_t budget) const override {
         const int channels = f.channels();
         if (channels < 1 || channels > Estimate::MaxChannels)
             fail("integrator 'mean': function '{}' has {} channels; 1 to {} are supported", f.typeName(), channels,
@@ -40,7 +42,7 @@ public:
         e.channels = channels;
         std::array<double, Estimate::MaxChannels> value{}, m2{};  // m2: Σ (f − mean)²
         for (std::uint64_t i = 0; i < budget; ++i) {
-            sampler.startSample(i);
+            sampler.startSample(first + i);
             value.fill(0.0);
             f.eval(sampler, std::span<double>(value.data(), std::size_t(channels)));
             const double n = double(i + 1);

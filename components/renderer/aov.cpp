@@ -78,12 +78,12 @@ public:
     RenderStats render(const Scene& scene, const RenderControl& control) override {
         const ICamera& camera = scene.camera();
         Point2f offset(camera.film().cropOffset());
-        int spp = camera.sampler().samplesPerPixel();
         return renderTiles(scene, control, m_channels, "AOVs",
-                           [&](const Point2i& px, ISampler& sampler, ImageBlock& block, TileStats& stats) {
+                           [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
+                               TileStats& stats) {
                                sampler.startPixel(px);
-                               for (int i = 0; i < spp; ++i) {
-                                   sampler.startSample(std::uint64_t(i));
+                               for (std::uint64_t i = range.first; i < range.first + range.count; ++i) {
+                                   sampler.startSample(i);
                                    samplePixel(scene, px, offset, sampler, block);
                                    ++stats.samples;
                                }

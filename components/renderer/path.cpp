@@ -14,8 +14,11 @@
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/iintegrator.hpp"
 #include "effigi/interfaces/irenderer.hpp"
+#include "effigi/render/image_metrics.hpp"
+#include "effigi/render/spectral_bins.hpp"
 #include "effigi/render/tile_renderer.hpp"
 #include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/colorspace.hpp"
 
 namespace effigi {
 namespace {
@@ -115,11 +118,12 @@ private:
 };
 
 /// One pixel's integrand in primary sample space: a film position, wavelengths and a
-/// path, splatted into the block as XYZ; its value for the integrator is luminance Y.
+/// path, splatted into the block as XYZ; its value for the integrator is the sample's
+/// linear RGB, so the integrator's variance is the pixel's per channel.
 class PixelIntegrand final : public Implements<IFunction> {
 public:
-    PixelIntegrand(const PathTracer& tracer, const ICamera& camera, Point2f filmOffset)
-        : m_tracer(tracer), m_camera(camera), m_filmOffset(filmOffset) {}
+    PixelIntegrand(const PathTracer& tracer, const ICamera& camera, Point2f filmOffset, const SpectralBinning& bins)
+        : m_tracer(tracer), m_camera(camera), m_filmOffset(filmOffset), m_bins(bins) {}
 
     void reset(Point2i pixel, ImageBlock* block, TileStats* stats) {
         m_pixel = pixel;
@@ -127,6 +131,7 @@ public:
         m_stats = stats;
     }
     int dimension() const override { return 0; }
+    int channels() const override { return 3; }
     void eval(ISampler& sampler, std::span<double> out) override {
         SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
         Point2f pFilm = Point2f(m_pixel) + sampler.getPixel2D();
@@ -135,19 +140,25 @@ public:
         Ray ray = m_camera.generateRay(cs, lambda, weight);
         SampledSpectrum L = weight * m_tracer.li(ray, lambda, sampler);
         Vector3f xyz = cie::toXYZ(L, lambda);
-        if (!isFinite(xyz)) {  // keep NaN/Inf off the film; counted and reported
+        // X, Y, Z, then the film's spectral bins, if it records any (fixed size: no allocation).
+        float v[3 + SpectralBinning::MaxBins];
+        if (!isFinite(xyz) || !m_bins.estimate(L, lambda, v + 3)) {  // keep NaN/Inf off the film; counted
             ++m_stats->rejected;
             xyz = Vector3f(0.f);
+            std::fill(v + 3, v + 3 + m_bins.count(), 0.f);
         }
+        v[0] = xyz.x, v[1] = xyz.y, v[2] = xyz.z;
         ++m_stats->samples;
-        m_block->put(pFilm, &xyz.x);
-        out[0] = xyz.y;
+        m_block->put(pFilm, v);
+        Vector3f rgb = xyzToLinearSRGB(xyz);
+        out[0] = rgb.x, out[1] = rgb.y, out[2] = rgb.z;
     }
 
 private:
     const PathTracer& m_tracer;
     const ICamera& m_camera;
     Point2f m_filmOffset;
+    const SpectralBinning& m_bins;
     Point2i m_pixel{0};
     ImageBlock* m_block = nullptr;
     TileStats* m_stats = nullptr;
@@ -177,21 +188,58 @@ public:
     RenderStats render(const Scene& scene, const RenderControl& control) override {
         PathTracer tracer(scene, m_maxDepth, m_rrDepth, m_hideEmitters);
         const ICamera& camera = scene.camera();
-        std::uint64_t spp = std::uint64_t(camera.sampler().samplesPerPixel());
         Point2f offset(camera.film().cropOffset());
-        return renderTiles(scene, control, {"X", "Y", "Z"}, "Rendering",
-                           [&](const Point2i& px, ISampler& sampler, ImageBlock& block, TileStats& stats) {
-                               PixelIntegrand f(tracer, camera, offset);
+        const auto [lambdaMin, lambdaMax] = camera.film().spectralRange();
+        const SpectralBinning bins(camera.film().spectralBins(), lambdaMin, lambdaMax);
+        std::vector<std::string> channels{"X", "Y", "Z"};
+        for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
+        Vector2i size = camera.film().size();
+        if (!control.accumulate || m_pixels.size() != std::size_t(size.x) * size.y)
+            m_pixels.assign(std::size_t(size.x) * size.y, PixelEstimate{});
+        m_filterFactor = filterVarianceFactor(camera.film().filter());
+        return renderTiles(scene, control, channels, "Rendering",
+                           [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
+                               TileStats& stats) {
+                               PixelIntegrand f(tracer, camera, offset, bins);
                                f.reset(px, &block, &stats);
                                sampler.startPixel(px);
-                               m_integrator->integrate(f, sampler, spp);
+                               Estimate e = m_integrator->integrate(f, sampler, range.first, range.count);
+                               m_pixels[std::size_t(px.y) * size.x + px.x].merge(e);
                            });
+    }
+
+    bool varianceEstimate(std::vector<float>& variance) const override {
+        // The integrator's variance is that of the samples drawn for the pixel; the film
+        // pixel is a filtered average over neighbouring pixels' samples too.
+        variance.resize(3 * m_pixels.size());
+        for (std::size_t i = 0; i < m_pixels.size(); ++i)
+            for (int c = 0; c < 3; ++c) variance[3 * i + c] = float(m_pixels[i].variance[c] * m_filterFactor);
+        return !m_pixels.empty();
     }
 
 private:
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
     Ref<IIntegrator> m_integrator;
+
+    /// Each pixel's estimate pooled over the passes so far: the integrator's own error
+    /// estimate, which `effigi converge` and noise-target rendering read.
+    /// Compact per-pixel pooled estimate (28 bytes: a 4K film needs 230 MB as Estimates).
+    struct PixelEstimate {
+        float mean[3] = {0.f, 0.f, 0.f}, variance[3] = {0.f, 0.f, 0.f};
+        std::uint32_t samples = 0;
+        void merge(const Estimate& e) {
+            Estimate pooled;
+            pooled.channels = 3;
+            pooled.samples = samples;
+            for (int c = 0; c < 3; ++c) pooled.mean[c] = mean[c], pooled.variance[c] = variance[c];
+            pooled.merge(e);
+            for (int c = 0; c < 3; ++c) mean[c] = float(pooled.mean[c]), variance[c] = float(pooled.variance[c]);
+            samples = std::uint32_t(std::min<std::uint64_t>(pooled.samples, 0xffffffffu));
+        }
+    };
+    std::vector<PixelEstimate> m_pixels;  // written by disjoint pixels in parallel
+    double m_filterFactor = 1.0;
 };
 
 } // namespace

@@ -26,6 +26,9 @@ public:
         s.cite("M. E. O'Neill, PCG: A Family of ... Random Number Generation, HMC-CS-2014-0905");
         s.integer("sample_count", 4, "Samples per pixel").atLeast(1);
         s.integer("seed", 0, "Seed of every sequence: equal seeds give identical images");
+        s.addConformance({"default", {}});
+        s.addConformance({"one sample, other seed", {{"sample_count", std::int64_t(1)}, {"seed", std::int64_t(12345)}}});
+        s.addConformance({"extreme seed", {{"sample_count", std::int64_t(1024)}, {"seed", std::int64_t(-1)}}});
         return s;
     }
 

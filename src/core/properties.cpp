@@ -2,6 +2,7 @@
 
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/render/constant_texture.hpp"
+#include "effigi/spectral/named.hpp"
 
 #include <algorithm>
 
@@ -119,7 +120,13 @@ Spectrum Properties::getSpectrum(const std::string& name, SpectrumKind kind) con
     if (auto* c = std::get_if<RGBValue>(&e.value)) return Spectrum::fromRGB(c->v, kind);
     if (auto* s = std::get_if<SpectrumValue>(&e.value)) {
         Spectrum r;
-        if (s->temperature > 0.f)
+        if (!s->name.empty()) {
+            try {
+                r = namedSpectrum(s->name);
+            } catch (const Error& err) {
+                failAt(e.where.known() ? e.where : m_where, "{}: parameter '{}': {}", describe(), name, err.what());
+            }
+        } else if (s->temperature > 0.f)
             r = Spectrum::blackbody(s->temperature);
         else if (s->lambdas.empty() && s->values.size() == 1)
             r = Spectrum(s->values[0]);

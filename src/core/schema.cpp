@@ -94,6 +94,7 @@ namespace {
 
 bool accepts(const ParamSpec& spec, const PropertyValue& v) {
     auto is = [&](auto* tag) { return std::holds_alternative<std::remove_pointer_t<decltype(tag)>>(v); };
+    if (spec.acceptsName && is((std::string*)nullptr)) return true;
     switch (spec.type) {
     case ParamType::Bool: return is((bool*)nullptr);
     case ParamType::Int: return is((std::int64_t*)nullptr);
@@ -116,6 +117,11 @@ bool accepts(const ParamSpec& spec, const PropertyValue& v) {
 }
 
 std::string expectedText(const ParamSpec& spec) {
+    if (spec.acceptsName) {
+        ParamSpec plain = spec;
+        plain.acceptsName = false;
+        return expectedText(plain) + " or a name";
+    }
     switch (spec.type) {
     case ParamType::Float: return "a float";
     case ParamType::Int: return "an integer";

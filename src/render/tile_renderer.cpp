@@ -20,11 +20,13 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
     ISampler& sampler = camera.sampler();
-    film.prepare(channels);
+    if (!control.accumulate) film.prepare(channels);
 
     Vector2i size = film.size();
     int tilesX = (size.x + TileSize - 1) / TileSize, tilesY = (size.y + TileSize - 1) / TileSize;
-    std::uint64_t spp = std::uint64_t(sampler.samplesPerPixel());
+    SampleRange range{control.sampleOffset,
+                      control.sampleCount ? control.sampleCount : std::uint64_t(sampler.samplesPerPixel())};
+    std::uint64_t spp = range.count;
 
     std::unique_ptr<tbb::global_control> limit;
     if (control.threads > 0)
@@ -56,7 +58,7 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
         std::uint64_t done = 0;
         for (int y = offset.y; y < offset.y + extent.y && !control.stopRequested(); ++y)
             for (int x = offset.x; x < offset.x + extent.x && !control.stopRequested(); ++x, ++done)
-                pixel({x, y}, *ts.sampler, block, ts.stats);
+                pixel({x, y}, range, *ts.sampler, block, ts.stats);
         film.put(block);
         progress.update(done * spp);
     });

@@ -4,6 +4,7 @@
 // line, element and attribute.
 #include "values.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -136,6 +137,17 @@ SpectrumValue spectrumFile(const Element& e, const std::filesystem::path& baseDi
     return s;
 }
 
+/// A named spectrum (value="d65", "macbeth-13"): one word that starts with a letter and
+/// is not a number ("inf" and "nan" stay numbers, to be rejected as not finite).
+bool isSpectrumName(std::string_view text) {
+    std::string_view t = trim(text);
+    double unused = 0;
+    if (t.empty() || !std::isalpha(static_cast<unsigned char>(t.front())) || toDouble(t, unused)) return false;
+    return std::all_of(t.begin(), t.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.';
+    });
+}
+
 SpectrumValue blackbody(const Element& e) {
     std::string_view t = trim(e.require("temperature"));
     // Mitsuba 0.6 scenes write the unit: temperature="3200K".
@@ -253,10 +265,18 @@ PropertyValue parseProperty(const Element& e, const std::filesystem::path& baseD
         if (value && e.find("filename")) e.fail("give either 'value' or 'filename', not both");
         if (!value) return spectrumFile(e, baseDir);
         if (value->find(':') != std::string::npos) return tabulated(e, *value);
+        if (isSpectrumName(*value)) {
+            SpectrumValue s;
+            s.name = std::string(trim(*value));  // resolved (and checked) by Properties::getSpectrum
+            return s;
+        }
         std::vector<double> v = parseList(e, "value", *value);
         if (v.size() != 1)
-            e.fail("attribute 'value': expected one constant or 'wavelength:value' pairs, got '{}'", *value);
-        return SpectrumValue{{}, {float(v[0])}};
+            e.fail("attribute 'value': expected one constant, 'wavelength:value' pairs or a spectrum name, got '{}'",
+                   *value);
+        SpectrumValue s;
+        s.values = {float(v[0])};
+        return s;
     }
     if (t == "blackbody") {
         e.allowOnly({"name", "temperature", "scale"});

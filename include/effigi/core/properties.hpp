@@ -19,11 +19,13 @@ class ITexture;
 struct PointValue { Point3f v; };
 struct VectorValue { Vector3f v; };
 struct RGBValue { Vector3f v; };
-/// A spectrum as written: tabulated (λ, value) pairs, a single constant, or a blackbody.
+/// A spectrum as written: tabulated (λ, value) pairs, a single constant, a blackbody,
+/// or the name of a spectrum shipped with effigi (effigi/spectral/named.hpp).
 struct SpectrumValue {
     std::vector<float> lambdas, values;  // empty lambdas + one value = constant
     float temperature = 0.f;             // > 0: blackbody at this temperature
     float scale = 1.f;
+    std::string name;                    // non-empty: namedSpectrum(name), resolved on use
 };
 /// A nested component together with the XML tag it was declared with.
 struct ComponentValue {

@@ -26,12 +26,15 @@ struct ParamSpec {
     std::string componentTag;           // Component: the accepted tag
     bool required = false;
     bool multiple = false;              // Component: any number of unnamed children
+    bool acceptsName = false;           // Float/Spectrum: a <string> (a named value) is accepted too
 
     ParamSpec& range(double lo, double hi) { min = lo; max = hi; return *this; }
     ParamSpec& atLeast(double lo) { min = lo; return *this; }
     ParamSpec& withUnit(std::string u) { unit = std::move(u); return *this; }
     ParamSpec& oneOf(std::vector<std::string> c) { choices = std::move(c); return *this; }
     ParamSpec& isRequired() { required = true; return *this; }
+    /// Also accept a string naming the value (Mitsuba's int_ior="bk7"); the component resolves it.
+    ParamSpec& orName() { acceptsName = true; return *this; }
 };
 
 /// A named parameter set the conformance runner instantiates (ordinary or extreme).

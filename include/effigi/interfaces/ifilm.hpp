@@ -9,12 +9,19 @@
 // positions p. The camera, which projects over the full film, receives
 // CameraSample::pFilm = p + cropOffset(). Films without a crop window keep the
 // defaults (cropOffset() = 0, fullSize() = size()).
+//
+// Spectral bins. A film with spectralBins() = N > 0 also wants the per-bin averages of
+// spectral radiance over N equal bins of spectralRange() (nm): renderers that can
+// (path) add the channels SpectralBinning(N, range).channelNames() to their channel list
+// and splat SpectralBinning::estimate() values into them (effigi/render/spectral_bins.hpp).
+// Renderers that cannot simply leave them out; the film then writes no spectral image.
 #include "effigi/core/component.hpp"
 #include "effigi/render/image_block.hpp"
 
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace effigi {
@@ -47,6 +54,10 @@ public:
     /// film positions before handing them to the camera.
     virtual Point2i cropOffset() const { return Point2i(0); }
     virtual const IFilter& filter() const = 0;
+    /// Number of spectral bins the film records (0: none).
+    virtual int spectralBins() const { return 0; }
+    /// Wavelength range [min, max] in nm covered by the spectral bins.
+    virtual std::pair<float, float> spectralRange() const { return {360.f, 830.f}; }
 
     /// Allocate storage for these channels and clear it.
     virtual void prepare(const std::vector<std::string>& channels) = 0;

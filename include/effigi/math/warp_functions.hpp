@@ -90,6 +90,89 @@ inline Point2f uniformTriangleToSquare(const Point2f& b) {
     return {su0 * su0, su0 > 0.f ? b.y / su0 : 0.f};
 }
 
+/// Inverse of squareToUniformHemisphere.
+inline Point2f uniformHemisphereToSquare(const Vector3f& v) {
+    float phi = std::atan2(v.y, v.x);
+    if (phi < 0.f) phi += 2.f * Pi;
+    return {std::clamp(v.z, 0.f, OneMinusEpsilon), std::min(phi * Inv2Pi, OneMinusEpsilon)};
+}
+
+/// Inverse of squareToUniformCone: z = 1 − u.x (1 − cosθmax).
+inline Point2f uniformConeToSquare(const Vector3f& v, float cosThetaMax) {
+    float phi = std::atan2(v.y, v.x);
+    if (phi < 0.f) phi += 2.f * Pi;
+    float ux = cosThetaMax < 1.f ? (1.f - v.z) / (1.f - cosThetaMax) : 0.f;
+    return {std::clamp(ux, 0.f, OneMinusEpsilon), std::min(phi * Inv2Pi, OneMinusEpsilon)};
+}
+
+// GGX (Trowbridge–Reitz) microfacet distribution, anisotropic roughness (αx, αy), normal +z.
+// Walter, Marschner, Li & Torrance, "Microfacet Models for Refraction through Rough
+// Surfaces", EGSR 2007 (D, Λ); Heitz, "Understanding the Masking-Shadowing Function in
+// Microfacet-Based BRDFs", JCGT 3(2), 2014 (anisotropic Λ).
+
+/// D(m) = 1 / (π αx αy ((mx/αx)² + (my/αy)² + mz²)²); zero below the surface.
+inline float ggxD(const Vector3f& m, float alphaX, float alphaY) {
+    if (!(m.z > 0.f)) return 0.f;
+    float x = m.x / alphaX, y = m.y / alphaY;
+    float d = x * x + y * y + m.z * m.z;
+    return 1.f / (Pi * alphaX * alphaY * d * d);
+}
+
+/// Smith's Λ(v) = (−1 + sqrt(1 + (αx² vx² + αy² vy²) / vz²)) / 2.
+inline float ggxLambda(const Vector3f& v, float alphaX, float alphaY) {
+    float z2 = v.z * v.z;
+    if (z2 == 0.f) return Infinity;
+    float a2t2 = (sqr(alphaX * v.x) + sqr(alphaY * v.y)) / z2;
+    return 0.5f * (std::sqrt(1.f + a2t2) - 1.f);
+}
+
+/// Smith's masking G1(v) = 1 / (1 + Λ(v)).
+inline float ggxG1(const Vector3f& v, float alphaX, float alphaY) { return 1.f / (1.f + ggxLambda(v, alphaX, alphaY)); }
+
+/// Microfacet normal m distributed as the normals visible from wi (wi.z > 0):
+/// D_wi(m) = G1(wi) max(0, wi·m) D(m) / wi.z. E. Heitz, "Sampling the GGX Distribution
+/// of Visible Normals", JCGT 7(4), 2018: stretch wi to the hemisphere configuration,
+/// sample the projected area of the hemisphere seen from it (a disk with its far half
+/// squashed), lift to the hemisphere and unstretch.
+inline Vector3f squareToGGXVisibleNormal(const Vector3f& wi, float alphaX, float alphaY, const Point2f& u) {
+    Vector3f vh = normalize(Vector3f(alphaX * wi.x, alphaY * wi.y, wi.z));
+    float lensq = vh.x * vh.x + vh.y * vh.y;
+    Vector3f t1 = lensq > 0.f ? Vector3f(-vh.y, vh.x, 0.f) / std::sqrt(lensq) : Vector3f(1.f, 0.f, 0.f);
+    Vector3f t2 = cross(vh, t1);
+    float r = std::sqrt(u.x), phi = 2.f * Pi * u.y;
+    float p1 = r * std::cos(phi), p2 = r * std::sin(phi);
+    float s = 0.5f * (1.f + vh.z);
+    p2 = (1.f - s) * safeSqrt(1.f - p1 * p1) + s * p2;
+    Vector3f nh = p1 * t1 + p2 * t2 + safeSqrt(1.f - p1 * p1 - p2 * p2) * vh;
+    return normalize(Vector3f(alphaX * nh.x, alphaY * nh.y, std::max(1e-6f, nh.z)));
+}
+
+/// Density of squareToGGXVisibleNormal (per unit solid angle of m).
+inline float squareToGGXVisibleNormalPdf(const Vector3f& m, const Vector3f& wi, float alphaX, float alphaY) {
+    if (!(wi.z > 0.f)) return 0.f;
+    float cosIM = dot(wi, m);
+    if (!(cosIM > 0.f)) return 0.f;
+    return ggxG1(wi, alphaX, alphaY) * cosIM * ggxD(m, alphaX, alphaY) / wi.z;
+}
+
+/// Inverse of squareToGGXVisibleNormal: stretch m back to the hemisphere configuration,
+/// project it onto the disk spanned by (t1, t2), undo the squash of the far half and
+/// read off the polar coordinates of the disk point.
+inline Point2f ggxVisibleNormalToSquare(const Vector3f& m, const Vector3f& wi, float alphaX, float alphaY) {
+    Vector3f vh = normalize(Vector3f(alphaX * wi.x, alphaY * wi.y, wi.z));
+    float lensq = vh.x * vh.x + vh.y * vh.y;
+    Vector3f t1 = lensq > 0.f ? Vector3f(-vh.y, vh.x, 0.f) / std::sqrt(lensq) : Vector3f(1.f, 0.f, 0.f);
+    Vector3f t2 = cross(vh, t1);
+    Vector3f nh = normalize(Vector3f(m.x / alphaX, m.y / alphaY, m.z));
+    float p1 = dot(nh, t1), p2 = dot(nh, t2);
+    float s = 0.5f * (1.f + vh.z);
+    p2 = (p2 - (1.f - s) * safeSqrt(1.f - p1 * p1)) / s;
+    float r2 = p1 * p1 + p2 * p2;
+    float phi = std::atan2(p2, p1);
+    if (phi < 0.f) phi += 2.f * Pi;
+    return {std::clamp(r2, 0.f, OneMinusEpsilon), std::min(phi * Inv2Pi, OneMinusEpsilon)};
+}
+
 /// Visible-spectrum wavelength importance sampling (Radziszewski et al. 2009 fit,
 /// pdf ∝ 1/cosh²(0.0072 (λ − 538)) over 360–830 nm). The constants: 1/0.0072 =
 /// 138.888889; tanh(0.0072·(538 − 360)) = 0.85691062 and the CDF's range

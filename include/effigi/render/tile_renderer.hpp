@@ -20,11 +20,17 @@ struct TileStats {
     std::uint64_t rejected = 0;
 };
 
-/// Renders one pixel (film coordinates of the crop window) into the block.
-using PixelFunction = std::function<void(const Point2i& pixel, ISampler& sampler, ImageBlock& block, TileStats& stats)>;
+/// The sample indices a pass renders in every pixel: [first, first + count).
+struct SampleRange {
+    std::uint64_t first = 0, count = 0;
+};
 
-/// Prepare the camera's film with `channels`, render every pixel, merge. `label` names
-/// the progress bar.
+/// Renders one pixel (film coordinates of the crop window) into the block.
+using PixelFunction = std::function<void(const Point2i& pixel, SampleRange samples, ISampler& sampler,
+                                         ImageBlock& block, TileStats& stats)>;
+
+/// Prepare the camera's film with `channels` (unless control.accumulate), render the
+/// pass's samples of every pixel, merge. `label` names the progress bar.
 RenderStats renderTiles(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
                         const std::string& label, const PixelFunction& pixel);
 

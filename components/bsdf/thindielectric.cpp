@@ -1,0 +1,119 @@
+// bsdf "thindielectric" — a thin, non-absorbing dielectric slab (a window pane) modelled as
+// one surface: light is reflected specularly or passes straight through (wi = −wo; the
+// sideways shift inside a thin pane is neglected).
+//
+// Summing the inter-reflections between the slab's two faces (a geometric series), the
+// slab reflects R' = R + T²R / (1 − R²) = 2R / (1 + R) and transmits T' = 1 − R' of the light,
+// R being the Fresnel reflectance of one face at the incidence angle and T = 1 − R. Both
+// lobes are Dirac deltas; sample() chooses reflection with probability P = R' averaged
+// over the path's live wavelengths (R' at the hero for a constant index), and the sample
+// weight is R'(λ)·specular_reflectance/P or T'(λ)·specular_transmittance/(1 − P). The
+// direction does not depend on λ, so a spectral index needs no wavelength termination, and
+// a straight pass has no net change of medium, hence no η² radiance scaling.
+//
+// Parameters (as Mitsuba 3): int_ior, ext_ior (float, spectrum or name, as for
+// `dielectric`), specular_reflectance, specular_transmittance (textures, default 1).
+//
+// Reference: M. Born & E. Wolf, Principles of Optics, §1.6 (multiple reflections in a
+// plane-parallel plate, incoherent sum).
+#include "dielectric_ior.hpp"
+
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/ibsdf.hpp"
+#include "effigi/interfaces/itexture.hpp"
+#include "effigi/render/fresnel.hpp"
+
+namespace effigi {
+namespace {
+
+class ThinDielectric final : public Implements<IBSDF> {
+public:
+    static Schema schema() {
+        Schema s("bsdf", "thindielectric", "Thin dielectric slab (window pane): specular reflection or straight transmission.");
+        s.cite("M. Born, E. Wolf, Principles of Optics, §1.6 (plane-parallel plate)");
+        declareIOR(s, "int_ior", DefaultIntIOR, "Index of refraction of the slab");
+        declareIOR(s, "ext_ior", DefaultExtIOR, "Index of refraction around the slab");
+        s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance, "Factor on the reflected part")
+            .range(0.0, 1.0);
+        s.texture("specular_transmittance", 1.f, SpectrumKind::Reflectance, "Factor on the transmitted part")
+            .range(0.0, 1.0);
+        // effigi-conform: ordinary and extreme parameters (index-matched, dense, dispersive).
+        s.addConformance({"default", {}});
+        s.addConformance({"ior 1.0001", {{"int_ior", 1.0001}, {"ext_ior", 1.0}}});
+        s.addConformance({"ior 4", {{"int_ior", 4.0}, {"ext_ior", 1.0}}});
+        s.addConformance({"dispersive bk7", {{"int_ior", SpectrumValue{{}, {}, 0.f, 1.f, "bk7"}}}});
+        return s;
+    }
+
+    explicit ThinDielectric(const Properties& p)
+        : m_eta(relativeIOR(p)), m_reflectance(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)),
+          m_transmittance(p.getTexture("specular_transmittance", SpectrumKind::Reflectance)) {}
+
+    std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
+
+    SampledSpectrum f(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
+                      TransportMode) const override {
+        return SampledSpectrum(0.f);
+    }
+
+    float pdf(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
+              TransportMode) const override {
+        return 0.f;
+    }
+
+    std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f&,
+                                     SampledWavelengths& lambda, TransportMode) const override {
+        if (wo.z == 0.f) return std::nullopt;
+        SampledSpectrum R = slabReflectance(std::abs(wo.z), lambda);
+        SampledSpectrum pdfL = lambda.pdf();
+        float sum = 0.f;
+        int live = 0;
+        for (int i = 0; i < NSpectrumSamples; ++i)
+            if (i == 0 || pdfL[i] != 0.f) {
+                sum += R[i];
+                ++live;
+            }
+        float P = sum / float(live);
+        float absCos = std::max(std::abs(wo.z), 1e-30f);
+
+        BSDFSample bs;
+        if (uc < P) {
+            bs.wi = reflectLocal(wo);
+            bs.pdf = P;
+            bs.flags = BSDFReflection | BSDFSpecular;
+            bs.f = R * m_reflectance->eval(si, lambda) * (1.f / absCos);
+        } else {
+            bs.wi = -wo;
+            bs.pdf = 1.f - P;
+            bs.flags = BSDFTransmission | BSDFSpecular;
+            bs.eta = 1.f;
+            bs.f = (SampledSpectrum(1.f) - R) * m_transmittance->eval(si, lambda) * (1.f / absCos);
+        }
+        return bs;
+    }
+
+    /// R' + T' at normal incidence, with the factors.
+    SampledSpectrum albedo(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
+        SampledSpectrum R = slabReflectance(1.f, lambda);
+        return R * m_reflectance->eval(si, lambda) + (SampledSpectrum(1.f) - R) * m_transmittance->eval(si, lambda);
+    }
+
+private:
+    /// R' = R + T²R/(1 − R²) = 2R/(1 + R) per wavelength (1 when the face reflects totally).
+    SampledSpectrum slabReflectance(float cosTheta, const SampledWavelengths& lambda) const {
+        SampledSpectrum eta = m_eta.eval(lambda), R;
+        for (int i = 0; i < NSpectrumSamples; ++i) {
+            float r = fresnelDielectric(cosTheta, eta[i]);
+            R[i] = 2.f * r / (1.f + r);
+        }
+        return R;
+    }
+
+    RelativeIOR m_eta;
+    Ref<ITexture> m_reflectance, m_transmittance;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::ThinDielectric)
