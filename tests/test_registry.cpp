@@ -213,6 +213,37 @@ TEST_CASE("registry: a missing or broken module is a clear error", "[registry]")
     fs::remove_all(dir);
 }
 
+TEST_CASE("registry: plugin directories without a manifest, and plugins replacing components", "[registry]") {
+    namespace fs = std::filesystem;
+    fs::path base = fs::temp_directory_path() / ("effigi-test-plugin-dirs-" + std::to_string(getpid()));
+    fs::path bare = base / "bare", first = base / "first", second = base / "second";
+    for (const auto& d : {bare, first, second}) fs::create_directories(d);
+    {
+        // Not loadable: only the names matter until something is created.
+        std::ofstream(bare / "bsdf-fake.so") << "not an ELF file";
+        std::ofstream(bare / "libhelper.so") << "not an ELF file";
+        std::ofstream(first / "manifest.txt") << "shape twin one.so\n";
+        std::ofstream(second / "manifest.txt") << "shape twin two.so\n";
+    }
+    Registry reg;
+    reg.addModuleDirectory(bare);  // warns about libhelper.so
+    auto all = reg.list();
+    CHECK(all == std::vector<std::pair<std::string, std::string>>{{"bsdf", "fake"}});
+    Properties p("bsdf", "fake");
+    CHECK(errorOf([&] { reg.create("bsdf", "fake", p); }).find("bsdf-fake.so") != std::string::npos);
+
+    // The later directory wins (with a warning): its module is the one loaded.
+    reg.addModuleDirectory(first);
+    reg.addModuleDirectory(second);
+    reg.addModuleDirectory(base / "missing");  // warns, adds nothing
+    CHECK(reg.list().size() == 2);
+    Properties q("shape", "twin");
+    std::string e = errorOf([&] { reg.create("shape", "twin", q); });
+    CHECK(e.find("two.so") != std::string::npos);
+    CHECK(e.find("one.so") == std::string::npos);
+    fs::remove_all(base);
+}
+
 TEST_CASE("tests: no test name contains a semicolon (ctest would split and skip it)", "[registry]") {
     namespace fs = std::filesystem;
     for (const auto& entry : fs::directory_iterator(EFFIGI_SOURCE_DIR "/tests")) {

@@ -54,6 +54,16 @@ void printText(const Schema& s) {
     }
 }
 
+/// A table cell: '|' would end the cell, so it is escaped (GitHub-flavoured Markdown).
+std::string cell(const std::string& text) {
+    std::string r;
+    for (char c : text) {
+        if (c == '|') r += '\\';
+        r += c;
+    }
+    return r;
+}
+
 void printMarkdown(const Schema& s) {
     std::printf("### `%s/%s`\n\n%s\n\n", s.tag().c_str(), s.name().c_str(), s.doc().c_str());
     if (!s.reference().empty()) std::printf("Reference: %s\n\n", s.reference().c_str());
@@ -66,7 +76,8 @@ void printMarkdown(const Schema& s) {
         std::string def = p.defaultValue ? valueText(*p.defaultValue) : (p.required ? "required" : "—");
         std::string extra = rangeText(p);
         std::string doc = p.doc + (p.unit.empty() ? "" : " [" + p.unit + "]") + (extra.empty() ? "" : " (" + extra + ")");
-        std::printf("| `%s` | %s | %s | %s |\n", p.name.c_str(), typeText(p).c_str(), def.c_str(), doc.c_str());
+        std::printf("| `%s` | %s | %s | %s |\n", p.name.c_str(), cell(typeText(p)).c_str(), cell(def).c_str(),
+                    cell(doc).c_str());
     }
     std::printf("\n");
 }

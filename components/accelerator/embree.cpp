@@ -14,6 +14,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstring>
+#include <limits>
 
 namespace effigi {
 namespace {
@@ -162,10 +163,14 @@ public:
     BBox3f bbox() const override { return m_bbox; }
 
 private:
+    // Embree accepts t = tnear; IIntersect promises t in (0, tMax), so a ray starting
+    // exactly on a surface must not report it at t = 0 (or −0).
+    static constexpr float MinT = std::numeric_limits<float>::min();
+
     static void setRay(RTCRay& r, const Ray& ray) {
         r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
         r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
-        r.tnear = 0.f;
+        r.tnear = MinT;
         r.tfar = ray.tMax;
         r.time = 0.f;
         r.mask = 0xffffffffu;
@@ -175,7 +180,7 @@ private:
     static void setLane(RTCRay16& r, std::size_t j, const Ray& ray) {
         r.org_x[j] = ray.o.x, r.org_y[j] = ray.o.y, r.org_z[j] = ray.o.z;
         r.dir_x[j] = ray.d.x, r.dir_y[j] = ray.d.y, r.dir_z[j] = ray.d.z;
-        r.tnear[j] = 0.f;
+        r.tnear[j] = MinT;
         r.tfar[j] = ray.tMax;
         r.time[j] = 0.f;
         r.mask[j] = 0xffffffffu;

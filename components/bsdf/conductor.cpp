@@ -15,45 +15,21 @@
 //
 // Reference: M. Born & E. Wolf, Principles of Optics, 7th ed., §14.2 (reflection at a
 // metal); the Fresnel evaluation is in effigi/render/fresnel.hpp.
+#include "conductor_ior.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
-#include "effigi/interfaces/itexture.hpp"
-#include "effigi/render/constant_texture.hpp"
 #include "effigi/render/fresnel.hpp"
-#include "effigi/spectral/named.hpp"
-
-#include <fmt/ranges.h>
 
 namespace effigi {
 namespace {
-
-/// Metals with both <name>-eta and <name>-k among the named spectra.
-std::vector<std::string> measuredMetals() {
-    std::vector<std::string> names = namedSpectrumNames(), metals;
-    const std::string suffix = "-eta";
-    for (const std::string& n : names) {
-        if (n.size() <= suffix.size() || n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
-        std::string metal = n.substr(0, n.size() - suffix.size());
-        if (std::binary_search(names.begin(), names.end(), metal + "-k")) metals.push_back(metal);
-    }
-    return metals;
-}
 
 class Conductor final : public Implements<IBSDF> {
 public:
     static Schema schema() {
         Schema s("bsdf", "conductor", "Smooth conductor (metal mirror) with a spectral complex index of refraction.");
         s.cite("M. Born, E. Wolf, Principles of Optics, 7th ed., 1999, §14.2");
-        s.string("material", "none",
-                 "Measured metal (Au, Ag, Cu, Al, Cr, Ni, Pt, Ti, W), or none: a 100 % mirror (η = 0, k = 1)");
-        ParamSpec& eta = s.optional("eta", ParamType::Texture, "Real part η of the complex IOR (default 0), instead of material");
-        eta.spectrumKind = SpectrumKind::Unbounded;
-        eta.componentTag = "texture";
-        eta.atLeast(0.0);
-        ParamSpec& k = s.optional("k", ParamType::Texture, "Extinction coefficient k of the complex IOR (default 1), instead of material");
-        k.spectrumKind = SpectrumKind::Unbounded;
-        k.componentTag = "texture";
-        k.atLeast(0.0);
+        declareConductorIOR(s);
         s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance,
                   "Factor on the Fresnel reflectance (not physical; for artistic control)")
             .range(0.0, 1.0);
@@ -67,29 +43,9 @@ public:
 
     explicit Conductor(const Properties& p)
         : m_reflectance(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)) {
-        const std::string& material = p.getString("material");
-        bool explicitIOR = p.has("eta") || p.has("k");
-        if (material == "none") {
-            m_eta = p.has("eta") ? p.getTexture("eta", SpectrumKind::Unbounded)
-                                 : std::make_shared<ConstantTexture>(Spectrum(0.f));
-            m_k = p.has("k") ? p.getTexture("k", SpectrumKind::Unbounded)
-                             : std::make_shared<ConstantTexture>(Spectrum(1.f));
-            return;
-        }
-        if (explicitIOR)
-            failAt(p.whereOf(p.has("eta") ? "eta" : "k"),
-                   "{}: give either 'material' or 'eta' and 'k', not both (material = '{}')", p.describe(), material);
-        std::vector<std::string> metals = measuredMetals();
-        if (std::find(metals.begin(), metals.end(), material) == metals.end()) {
-            std::vector<std::string> choices = metals;
-            choices.push_back("none");
-            std::string hint = didYouMean(material, choices);
-            failAt(p.whereOf("material"), "{}: parameter 'material' = '{}' has no measured data{} (available: {})",
-                   p.describe(), material, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
-                   fmt::join(choices, ", "));
-        }
-        m_eta = std::make_shared<ConstantTexture>(namedSpectrum(material + "-eta"));
-        m_k = std::make_shared<ConstantTexture>(namedSpectrum(material + "-k"));
+        ConductorIOR ior = readConductorIOR(p);
+        m_eta = ior.eta;
+        m_k = ior.k;
     }
 
     std::uint32_t flags() const override { return BSDFReflection | BSDFSpecular; }

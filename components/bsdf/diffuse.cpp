@@ -3,7 +3,7 @@
 // Models a surface that scatters incident light equally into every direction of the
 // hemisphere above it: f(wo, wi) = ρ/π for wo and wi on the side of the shading
 // normal, zero otherwise. Like Mitsuba 3's `diffuse` it is ONE-SIDED: seen from below
-// the surface is black (wrap it in a two-sided adapter to reflect on both sides).
+// the surface is black (wrap it in `twosided` to reflect on both sides).
 // Sampling is cosine-weighted (Malley's method), so f·cos/pdf = ρ exactly.
 //
 // Parameters:

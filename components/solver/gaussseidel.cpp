@@ -50,13 +50,7 @@ public:
             double change = 0.0;
             for (std::size_t i = 0; i < sys.n; ++i) {
                 double acc[SpectralBinning::MaxBins] = {};
-                const float* row = F.row(i);
-                for (std::size_t j = 0; j < sys.n; ++j) {
-                    double f = row[j];
-                    if (f == 0.0) continue;
-                    const double* bj = &sys.b[j * nb];
-                    for (int k = 0; k < nb; ++k) acc[k] += f * bj[k];
-                }
+                F.gather(i, sys.b.data(), nb, acc);
                 double d = 0.0;
                 for (int k = 0; k < nb; ++k) {
                     std::size_t ik = i * nb + k;

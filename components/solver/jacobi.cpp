@@ -51,13 +51,7 @@ public:
         while (!interrupted && residual > m_tolerance && it < m_maxIterations) {
             tbb::parallel_for(std::size_t(0), sys.n, [&](std::size_t i) {
                 double acc[SpectralBinning::MaxBins] = {};
-                const float* row = F.row(i);
-                for (std::size_t j = 0; j < sys.n; ++j) {
-                    double f = row[j];
-                    if (f == 0.0) continue;
-                    const double* bj = &sys.b[j * nb];
-                    for (int k = 0; k < nb; ++k) acc[k] += f * bj[k];
-                }
+                F.gather(i, sys.b.data(), nb, acc);
                 for (int k = 0; k < nb; ++k) {
                     std::size_t ik = i * nb + k;
                     next[ik] = sys.emission[ik] + sys.rho[ik] * acc[k];

@@ -30,7 +30,13 @@ std::vector<std::filesystem::path> moduleDirectories() {
 
 std::filesystem::path dataDirectory() {
     if (const char* dir = std::getenv("EFFIGI_DATA_DIR"); dir && *dir) return dir;
-    return libraryDirectory().parent_path() / "share" / "effigi";
+    // <prefix>/lib beside <prefix>/share: the build tree and an install with libdir lib.
+    std::filesystem::path dir = libraryDirectory().parent_path() / "share" / "effigi";
+#ifdef EFFIGI_DATA_FROM_LIBDIR
+    // An install whose libdir is deeper (lib/<multiarch>): the path CMake computed for it.
+    if (!std::filesystem::is_directory(dir)) return (libraryDirectory() / EFFIGI_DATA_FROM_LIBDIR).lexically_normal();
+#endif
+    return dir;
 }
 
 const char* version() { return EFFIGI_VERSION; }

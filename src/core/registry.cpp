@@ -3,6 +3,7 @@
 #include "effigi/core/log.hpp"
 #include "effigi/core/module.hpp"
 
+#include <algorithm>
 #include <dlfcn.h>
 #include <fstream>
 #include <sstream>
@@ -24,25 +25,59 @@ std::string Registry::canonicalTag(const std::string& tag) {
 }
 
 void Registry::addModuleDirectory(const std::filesystem::path& dir) {
-    std::filesystem::path manifest = dir / "manifest.txt";
-    std::ifstream in(manifest);
-    if (!in) {
-        log::warn("no module manifest in {}", dir.string());
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+        log::warn("module directory {} does not exist (EFFIGI_PLUGIN_PATH?); ignored", dir.string());
         return;
     }
-    std::lock_guard lock(m_mutex);
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::istringstream ss(line);
+    struct Entry {
         std::string tag, name, file;
-        if (!(ss >> tag >> name >> file)) {
-            log::warn("{}: ignoring malformed line '{}'", manifest.string(), line);
-            continue;
+    };
+    std::vector<Entry> entries;
+    const fs::path manifest = dir / "manifest.txt";
+    if (std::ifstream in(manifest); in) {
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.empty() || line[0] == '#') continue;
+            std::istringstream ss(line);
+            Entry e;
+            if (!(ss >> e.tag >> e.name >> e.file)) {
+                log::warn("{}: ignoring malformed line '{}'", manifest.string(), line);
+                continue;
+            }
+            entries.push_back(std::move(e));
         }
-        Key key{tag, name};
-        m_manifest[key] = (dir / file).string();
-        // A plugin directory may replace a built-in component that is not loaded yet.
+    } else {
+        // No manifest (modules copied by hand): the file name <tag>-<name>.so says what a
+        // module holds, so nothing has to be loaded to list it.
+        for (const auto& f : fs::directory_iterator(dir, ec)) {
+            if (f.path().extension() != ".so") continue;
+            const std::string stem = f.path().stem().string();
+            const auto dash = stem.find('-');
+            if (dash == std::string::npos || dash == 0 || dash + 1 == stem.size()) {
+                log::warn("{}: not named <tag>-<name>.so and no manifest.txt lists it; ignored", f.path().string());
+                continue;
+            }
+            entries.push_back({stem.substr(0, dash), stem.substr(dash + 1), f.path().filename().string()});
+        }
+        if (entries.empty()) {
+            log::warn("no manifest.txt and no <tag>-<name>.so modules in {}; nothing found there", dir.string());
+            return;
+        }
+        std::sort(entries.begin(), entries.end(),
+                  [](const Entry& a, const Entry& b) { return a.file < b.file; });
+    }
+    std::lock_guard lock(m_mutex);
+    for (const Entry& e : entries) {
+        Key key{canonicalTag(e.tag), e.name};
+        std::string path = (dir / e.file).string();
+        // A later directory (a plugin) replaces a component of the same tag and name,
+        // built in or not; say so, since it changes what every scene using it renders.
+        if (auto it = m_manifest.find(key); it != m_manifest.end() && it->second != path)
+            log::warn("{} '{}' from {} replaces the one from {}", key.first, key.second, path, it->second);
+        m_manifest[key] = path;
+        // ... provided the component is not loaded yet.
         if (auto it = m_components.find(key); it != m_components.end() && !it->second.module.empty())
             m_components.erase(it);
     }
@@ -58,7 +93,9 @@ void Registry::loadModule(const std::string& path, const Key& wanted) {
     void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (!handle) fail("cannot load module {} for {} '{}': {}", path, wanted.first, wanted.second, dlerror());
     auto entry = reinterpret_cast<ModuleEntry>(dlsym(handle, "effigiRegisterModule"));
-    if (!entry) fail("module {} has no effigiRegisterModule entry point", path);
+    if (!entry)
+        fail("{} is not an effigi module: it has no effigiRegisterModule entry point (EFFIGI_EXPORT_COMPONENT)",
+             path);
     std::size_t before = m_components.size();
     entry(*this);
     for (auto& [key, info] : m_components)

@@ -31,8 +31,9 @@ public:
     /// An empty registry (tests).
     Registry() = default;
 
-    /// Read `dir/manifest.txt` (lines "tag name module-file"); later entries of the
-    /// same (tag, name) — plugins — take precedence.
+    /// Read `dir/manifest.txt` (lines "tag name module-file"), or without one take every
+    /// `<tag>-<name>.so` in dir; later entries of the same (tag, name) — plugins — take
+    /// precedence, with a warning.
     void addModuleDirectory(const std::filesystem::path& dir);
     /// Register a component directly (called from a module's entry point, or by tests).
     void add(ComponentInfo info);

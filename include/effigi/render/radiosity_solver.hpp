@@ -38,6 +38,17 @@ public:
     std::size_t size() const { return m_n; }
     const float* row(std::size_t i) const { return m_f.data() + i * m_n; }
     float at(std::size_t i, std::size_t j) const { return m_f[i * m_n + j]; }
+    /// acc[k] = Σ_j F_ij b[j·bins + k]: the radiosity gathered by element i (acc zeroed
+    /// by the caller), as Jacobi and Gauss–Seidel sweeps need it.
+    void gather(std::size_t i, const double* b, int bins, double* acc) const {
+        const float* r = row(i);
+        for (std::size_t j = 0; j < m_n; ++j) {
+            const double f = r[j];
+            if (f == 0.0) continue;
+            const double* bj = b + j * std::size_t(bins);
+            for (int k = 0; k < bins; ++k) acc[k] += f * bj[k];
+        }
+    }
     bool interrupted() const { return m_interrupted; }
 
 private:
