@@ -173,9 +173,18 @@ TEST_CASE("cli: SIGINT writes the partial image", "[cli]") {
     // Wait until the app has installed its SIGINT handler (the caught-signal mask in
     // /proc), not a fixed time: a loaded machine or a sanitizer build starts slowly, and a
     // signal before the handler would kill the app instead of testing it.
+    // Until exec the child is a copy of this test, whose Catch2 handler catches SIGINT
+    // too, so the mask only counts once /proc/<pid>/exe is the app.
+    const fs::path app = fs::canonical(EFFIGI_APP);
+    const fs::path proc = "/proc/" + std::to_string(pid);
     bool caught = false;
     for (int i = 0; i < 6000 && !caught; ++i) {
-        std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+        std::error_code ec;
+        if (fs::read_symlink(proc / "exe", ec) != app) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            continue;
+        }
+        std::ifstream status(proc / "status");
         for (std::string line; std::getline(status, line);)
             if (line.rfind("SigCgt:", 0) == 0) caught = (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1;
         if (!caught) std::this_thread::sleep_for(std::chrono::milliseconds(10));

@@ -114,7 +114,7 @@ TEST_CASE("chi-square test pools sparse cells and rejects impossible samples", "
 // ---------------------------------------------------------------------------------------
 // independent sampler
 
-TEST_CASE("independent sampler: values in [0,1), parameters", "[sampling]") {
+TEST_CASE("independent sampler: values in the half-open unit interval, parameters", "[sampling]") {
     auto s = makeSampler(7, 16);
     CHECK(s->samplesPerPixel() == 16);
     float lo = 1.f, hi = 0.f;
