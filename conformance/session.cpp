@@ -22,15 +22,6 @@ double now() {
     return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 
-/// FNV-1a of a string: a stable key for seeding.
-std::uint64_t hashString(std::string_view s) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (char c : s) {
-        h ^= static_cast<unsigned char>(c);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
 
 std::map<std::string, Suite>& suiteTable() {
     static std::map<std::string, Suite> table;
@@ -108,7 +99,7 @@ bool Target::hasParameter(const std::string& name) const {
 
 std::uint64_t Target::derivedSeed(std::string_view key) const {
     std::string full = m_tag + "/" + m_component + "/" + m_config.name + "/" + std::string(key);
-    return mixBits(m_options.seed ^ mixBits(hashString(full)));
+    return mixBits(m_options.seed ^ mixBits(fnv1a(full)));
 }
 
 PCG32 Target::rng(std::string_view key) const {

@@ -44,15 +44,6 @@ void checkMatrix(const glm::dmat3& M, const double (&ref)[3][3], double tol) {
         }
 }
 
-Ref<IFilm> makeFilm(const std::vector<std::pair<std::string, PropertyValue>>& params) {
-    Properties p("film", "hdrfilm");
-    for (const auto& [k, v] : params) p.set(k, v);
-    p.set("", ComponentValue{"rfilter", makeFilter("box")});
-    Ref<IFilm> film = query<IFilm>(Registry::instance().create("film", "hdrfilm", p));
-    REQUIRE(film);
-    return film;
-}
-
 } // namespace
 
 TEST_CASE("each space maps its white to RGB (1,1,1) and its primaries to the unit vectors", "[colorspace]") {
@@ -227,7 +218,7 @@ TEST_CASE("film colorspace: a D65 white is (1,1,1) in every space, EXR records t
         Ref<IFilm> film = makeFilm({{"width", PropertyValue(std::int64_t(2))},
                                     {"height", PropertyValue(std::int64_t(2))},
                                     {"colorspace", PropertyValue(std::string(names[k]))},
-                                    {"component_format", PropertyValue(std::string("float32"))}});
+                                    {"component_format", PropertyValue(std::string("float32"))}}, "box");
         film->prepare({"X", "Y", "Z"});
         ImageBlock b = film->createBlock({0, 0}, {2, 2});
         // A D65 white and a saturated sRGB red.
@@ -276,7 +267,7 @@ TEST_CASE("film tonemap and exposure shape the PNG only", "[tonemap][film]") {
                                     {"height", PropertyValue(std::int64_t(1))},
                                     {"tonemap", PropertyValue(std::string(op))},
                                     {"exposure", PropertyValue(1.0)},
-                                    {"component_format", PropertyValue(std::string("float32"))}});
+                                    {"component_format", PropertyValue(std::string("float32"))}}, "box");
         film->prepare({"X", "Y", "Z"});
         ImageBlock b = film->createBlock({0, 0}, {1, 1});
         const Vector3f grey = 1.5f * Vector3f(colorimetry::D65White);  // linear sRGB (1.5, 1.5, 1.5)

@@ -23,15 +23,6 @@ namespace {
 
 using Params = std::vector<std::pair<std::string, PropertyValue>>;
 
-Ref<IFilm> makeFilm(const Params& params, const std::string& filter = "") {
-    Properties p("film", "hdrfilm");
-    for (const auto& [k, v] : params) p.set(k, v);
-    if (!filter.empty()) p.set("", ComponentValue{"rfilter", makeFilter(filter)});
-    Ref<IFilm> film = query<IFilm>(Registry::instance().create("film", "hdrfilm", p));
-    REQUIRE(film);
-    return film;
-}
-
 PropertyValue I(std::int64_t v) { return PropertyValue(v); }
 PropertyValue S(const char* v) { return PropertyValue(std::string(v)); }
 

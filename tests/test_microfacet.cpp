@@ -2,10 +2,8 @@
 // them: D normalised, Smith G1 and G in their limits, visible-normal densities integrating
 // to 1, white-furnace albedos of roughconductor (F = 1) and roughdielectric (R + T), both
 // checked against quadrature of f() independent of sampling, the α → 0 limit against the
-// smooth conductor and dielectric, and a chi-square test of near-specular lobes (α = 1e-4,
-// η = 1.0001) in a chart zoomed onto the lobe, which effigi-conform's whole-sphere
-// histogram cannot resolve. Random tests are seeded; each states its tolerance or
-// significance level.
+// smooth conductor and dielectric (the near-specular lobes' chi-square is in
+// test_microfacet_lobes.cpp). Random tests are seeded; each states its tolerance.
 #include "bsdf_helpers.hpp"
 
 #include "effigi/math/frame.hpp"
@@ -25,11 +23,6 @@ namespace {
 
 const SurfaceInteraction NoSi{};
 constexpr double TwoPi = 2.0 * 3.14159265358979323846;
-
-Vector3f dirAt(float cosTheta, float phi = 0.7f, float side = 1.f) {
-    float s = std::sqrt(std::max(0.f, 1.f - cosTheta * cosTheta));
-    return {s * std::cos(phi), s * std::sin(phi), side * cosTheta};
-}
 
 /// ∫ g dω over the hemisphere about `axis`, by the midpoint rule in (v, φ) with
 /// tanθ = scale · v/(1 − v): nodes crowd around the axis at the lobe's angular scale and
@@ -101,14 +94,6 @@ double quadratureAlbedo(const IBSDF& b, const Vector3f& wo, TransportMode mode, 
     return r + hemisphereIntegral(below, scale, 800, 256, tAxis) + hemisphereIntegral(below, 1.0, 400, 256, -tAxis);
 }
 
-/// The smooth refraction of wo through the macro surface (direction of the α → 0 lobe).
-Vector3f smoothRefraction(const Vector3f& wo, float eta) {
-    Vector3f wt;
-    float etaRel;
-    REQUIRE(refractLocal(wo, eta, wt, etaRel));
-    return wt;
-}
-
 } // namespace
 
 TEST_CASE("microfacet: D is normalised, ∫ D(m) cosθm dωm = 1", "[microfacet]") {
@@ -132,11 +117,11 @@ TEST_CASE("microfacet: Smith G1 and G in their limits", "[microfacet]") {
         CHECK(d.G1(Vector3f(0.f, 0.f, 1.f)) == 1.f);           // nothing masks the normal view
         CHECK(d.G1(Vector3f(1.f, 0.f, 0.f)) == 0.f);           // everything masks the tangent one
         CHECK(d.G1(normalize(Vector3f(1.f, 0.f, 1e-6f))) < 1e-5f);
-        CHECK(smooth.G1(dirAt(std::cos(degToRad(89.f)))) > 0.9999f);  // α → 0: no masking
-        CHECK(smooth.G1(dirAt(1e-6f)) > 0.f);
+        CHECK(smooth.G1(directionFromCos(std::cos(degToRad(89.f)))) > 0.9999f);  // α → 0: no masking
+        CHECK(smooth.G1(directionFromCos(1e-6f)) > 0.f);
         float previous = 1.f;
         for (float deg = 0.f; deg < 90.f; deg += 1.f) {  // decreasing towards grazing
-            Vector3f w = dirAt(std::cos(degToRad(deg)));
+            Vector3f w = directionFromCos(std::cos(degToRad(deg)));
             float g = d.G1(w);
             CHECK(g <= previous);
             CHECK(d.G1(-w) == g);  // the same microsurface seen from below
@@ -147,7 +132,7 @@ TEST_CASE("microfacet: Smith G1 and G in their limits", "[microfacet]") {
         // B(1 + Λ, 1) = 1/(1 + Λ).
         for (float co : {0.9f, 0.5f, 0.1f}) {
             for (float ci : {0.95f, 0.3f, 0.02f}) {
-                Vector3f wo = dirAt(co, 0.3f), wi = dirAt(ci, 2.1f);
+                Vector3f wo = directionFromCos(co, 0.3f), wi = directionFromCos(ci, 2.1f);
                 float g1o = d.G1(wo), g1i = d.G1(wi), gr = d.G(wo, wi), gt = d.G(wo, -wi);
                 CHECK(gr == d.G(wi, wo));
                 CHECK(gr >= g1o * g1i * (1.f - 1e-6f));
@@ -155,7 +140,7 @@ TEST_CASE("microfacet: Smith G1 and G in their limits", "[microfacet]") {
                 CHECK(gt <= g1o * g1i * (1.f + 1e-5f));
                 CHECK(gt == Approx(d.G(-wi, wo)).epsilon(1e-6));
             }
-            CHECK(d.G(dirAt(co), Vector3f(0.f, 0.f, -1.f)) == Approx(d.G1(dirAt(co))).epsilon(1e-9));
+            CHECK(d.G(directionFromCos(co), Vector3f(0.f, 0.f, -1.f)) == Approx(d.G1(directionFromCos(co))).epsilon(1e-9));
         }
     }
     // Closed forms: GGX G1 = 2 / (1 + √(1 + α² tan²θ)); Beckmann Λ(a = 1) =
@@ -163,7 +148,7 @@ TEST_CASE("microfacet: Smith G1 and G in their limits", "[microfacet]") {
     MicrofacetDistribution ggx(MicrofacetType::GGX, 0.3f, 0.3f);
     for (float deg : {10.f, 45.f, 80.f, 89.f}) {
         float tan2 = sqr(std::tan(degToRad(deg)));
-        CHECK(ggx.G1(dirAt(std::cos(degToRad(deg)))) ==
+        CHECK(ggx.G1(directionFromCos(std::cos(degToRad(deg)))) ==
               Approx(2.0 / (1.0 + std::sqrt(1.0 + 0.09 * tan2))).epsilon(1e-5));
     }
     MicrofacetDistribution beckmann(MicrofacetType::Beckmann, 1.f, 1.f);
@@ -179,7 +164,7 @@ TEST_CASE("microfacet: the visible-normal density integrates to 1", "[microfacet
             MicrofacetDistribution d(type, a.x, a.y);
             double scale = std::sqrt(double(a.x) * a.y);
             for (float c : {1.f, 0.7f, 0.2f, 1e-3f}) {
-                Vector3f w = dirAt(c, 0.4f);
+                Vector3f w = directionFromCos(c, 0.4f);
                 for (float side : {1.f, -1.f}) {
                     Vector3f ws = side * w;
                     double visible =
@@ -202,7 +187,7 @@ TEST_CASE("roughconductor: white furnace with F = 1", "[microfacet][bsdf]") {
         for (double alpha : {1e-4, 0.01, 0.1, 0.3, 1.0}) {
             Ref<IBSDF> b = makeBSDF("roughconductor", {{"distribution", std::string(dist)}, {"alpha", alpha}});
             for (float mu : {1.f, 0.5f, 0.1f}) {
-                Vector3f wo = dirAt(mu);
+                Vector3f wo = directionFromCos(mu);
                 Albedo e = sampledAlbedo(*b, wo, TransportMode::Radiance);
                 INFO(dist << " alpha = " << alpha << ", cos θo = " << mu << ": albedo " << e.total());
                 CHECK(e.total() <= 1.0 + 1e-6);
@@ -236,7 +221,7 @@ TEST_CASE("roughdielectric: reflection + transmission <= 1", "[microfacet][bsdf]
                                                             {"int_ior", eta}, {"ext_ior", 1.0}});
                 for (float side : {1.f, -1.f}) {
                     for (float mu : {0.9f, 0.4f}) {
-                        Vector3f wo = dirAt(mu, 0.7f, side);
+                        Vector3f wo = directionFromCos(mu, 0.7f, side);
                         Albedo e = sampledAlbedo(*b, wo, TransportMode::Importance);
                         Albedo r = sampledAlbedo(*b, wo, TransportMode::Radiance);
                         INFO(dist << " eta " << eta << " alpha " << alpha << " cos θo " << wo.z << ": R " << e.reflected
@@ -274,7 +259,7 @@ TEST_CASE("rough BSDFs approach the smooth ones as alpha -> 0", "[microfacet][bs
                                                        {"material", std::string("Au")}});
         Ref<IBSDF> smooth = makeBSDF("conductor", {{"material", std::string("Au")}});
         for (float mu : {1.f, 0.5f, 0.1f}) {
-            Vector3f wo = dirAt(mu);
+            Vector3f wo = directionFromCos(mu);
             SampledWavelengths l = SampledWavelengths::constant(600.f);
             auto s = smooth->sample(NoSi, wo, 0.5f, {0.5f, 0.5f}, l, TransportMode::Radiance);
             REQUIRE(s);
@@ -292,7 +277,7 @@ TEST_CASE("rough BSDFs approach the smooth ones as alpha -> 0", "[microfacet][bs
         Ref<IBSDF> glass = makeBSDF("dielectric", {});
         for (float side : {1.f, -1.f}) {
             for (float mu : {1.f, 0.8f, 0.5f}) {
-                Vector3f wo = dirAt(mu, 0.7f, side);
+                Vector3f wo = directionFromCos(mu, 0.7f, side);
                 SampledWavelengths l = SampledWavelengths::constant(550.f);
                 auto sr = glass->sample(NoSi, wo, 0.f, {0.5f, 0.5f}, l, TransportMode::Radiance);
                 auto st = glass->sample(NoSi, wo, OneMinusEpsilon, {0.5f, 0.5f}, l, TransportMode::Radiance);
@@ -316,110 +301,6 @@ TEST_CASE("rough BSDFs approach the smooth ones as alpha -> 0", "[microfacet][bs
                 CHECK(std::abs(reflected / double(reflected + transmitted) - F) <= 5.0 * sigma + 1e-3);
             }
         }
-    }
-}
-
-namespace {
-
-/// Chi-square test of sample() against pdf() in the gnomonic chart (x, y) = (wi·t1, wi·t2)
-/// / (wi·c) about the lobe's centre c, on a grid fitted to the lobe; the density there is
-/// pdf(wi) (wi·c)³. Samples outside the window, in another lobe or absorbed go to one more
-/// cell expecting n (1 − Σ ∫cell). Cell integrals by 4×4 Gauss–Legendre on 4×4 sub-cells.
-stats::ChiSquareResult zoomedChiSquare(const IBSDF& b, const Vector3f& wo, const Vector3f& centre, PCG32& rng,
-                                       int n = 200000, int cells = 16) {
-    Frame frame(centre);
-    auto chart = [&](const Vector3f& wi, double& x, double& y) {
-        Vector3d l = Vector3d(frame.toLocal(wi));
-        if (!(l.z > 0.0)) return false;
-        x = l.x / l.z;
-        y = l.y / l.z;
-        return true;
-    };
-    std::vector<Vector3f> samples;
-    std::vector<double> extent;
-    for (int i = 0; i < n; ++i) {
-        SampledWavelengths l = SampledWavelengths::constant(550.f);
-        auto bs = b.sample(NoSi, wo, rng.nextFloat(), {rng.nextFloat(), rng.nextFloat()}, l, TransportMode::Radiance);
-        if (!bs) continue;
-        samples.push_back(bs->wi);
-        double x, y;
-        if (chart(bs->wi, x, y) && std::max(std::abs(x), std::abs(y)) < 0.1)
-            extent.push_back(std::max(std::abs(x), std::abs(y)));
-    }
-    // The window holds about 95 % of the samples within 0.1 rad of the centre (the lobe;
-    // the other lobe and far tails lie beyond).
-    std::sort(extent.begin(), extent.end());
-    REQUIRE(extent.size() > 1000);
-    double w = extent[std::size_t(0.95 * double(extent.size()))];
-    std::vector<double> observed(std::size_t(cells * cells + 1), 0.0), expected(observed.size(), 0.0);
-    for (const Vector3f& wi : samples) {
-        double x, y;
-        std::size_t c = observed.size() - 1;
-        if (chart(wi, x, y) && std::abs(x) < w && std::abs(y) < w)
-            c = std::size_t(std::min(cells - 1, int((y + w) / (2 * w) * cells))) * cells +
-                std::size_t(std::min(cells - 1, int((x + w) / (2 * w) * cells)));
-        observed[c] += 1.0;
-    }
-    observed.back() += double(n - int(samples.size()));
-    const double gx[4] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526};
-    const double gw[4] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538};
-    const int sub = 4;
-    double h = 2 * w / (cells * sub), total = 0.0;
-    for (int cy = 0; cy < cells; ++cy)
-        for (int cx = 0; cx < cells; ++cx) {
-            double sum = 0.0;
-            for (int sy = 0; sy < sub; ++sy)
-                for (int sx = 0; sx < sub; ++sx)
-                    for (int i = 0; i < 4; ++i)
-                        for (int j = 0; j < 4; ++j) {
-                            double x = -w + (cx * sub + sx + 0.5 + 0.5 * gx[i]) * h;
-                            double y = -w + (cy * sub + sy + 0.5 + 0.5 * gx[j]) * h;
-                            double r2 = 1.0 + x * x + y * y;
-                            Vector3f wi = normalize(frame.toWorld(Vector3f(float(x), float(y), 1.f)));
-                            SampledWavelengths l = SampledWavelengths::constant(550.f);
-                            double p = b.pdf(NoSi, wo, wi, l, TransportMode::Radiance);
-                            sum += gw[i] * gw[j] * 0.25 * h * h * p / (r2 * std::sqrt(r2));
-                        }
-            expected[std::size_t(cy * cells + cx)] = sum * n;
-            total += sum;
-        }
-    expected.back() = std::max(0.0, 1.0 - total) * n;
-    return stats::chiSquareTest(observed, expected);
-}
-
-} // namespace
-
-TEST_CASE("near-specular lobes follow pdf() in a chart zoomed onto them (chi-square)", "[microfacet][bsdf]") {
-    // effigi-conform skips lobes narrower than its whole-sphere histogram (pdf > 1000
-    // sr⁻¹); here each lobe gets its own 16 × 16 grid. 200k samples per test, 8 tests,
-    // each at significance 1e-3 (Bonferroni: 0.8 % for the family).
-    PCG32 rng(42, 7);
-    struct Case {
-        std::string what;
-        Ref<IBSDF> b;
-        Vector3f wo, centre;
-    };
-    std::vector<Case> cases;
-    for (const char* dist : {"ggx", "beckmann"}) {
-        Vector3f wo = dirAt(0.5f);
-        cases.push_back({std::string(dist) + " roughconductor 1e-4",
-                         makeBSDF("roughconductor", {{"distribution", std::string(dist)}, {"alpha", 1e-4}}), wo,
-                         reflectLocal(wo)});
-        Ref<IBSDF> glass = makeBSDF("roughdielectric", {{"distribution", std::string(dist)}, {"alpha", 1e-4}});
-        cases.push_back({std::string(dist) + " roughdielectric 1e-4 reflection", glass, dirAt(0.3f), reflectLocal(dirAt(0.3f))});
-        Vector3f wt = dirAt(0.8f, 0.7f, -1.f);
-        cases.push_back({std::string(dist) + " roughdielectric 1e-4 refraction from inside", glass, wt,
-                         smoothRefraction(wt, 1.5046f / 1.000277f)});
-        Ref<IBSDF> matched = makeBSDF("roughdielectric", {{"distribution", std::string(dist)}, {"alpha", 0.3},
-                                                          {"int_ior", 1.0001}, {"ext_ior", 1.0}});
-        cases.push_back({std::string(dist) + " roughdielectric 0.3, eta 1.0001, refraction", matched, dirAt(0.6f),
-                         smoothRefraction(dirAt(0.6f), 1.0001f)});
-    }
-    for (const Case& c : cases) {
-        stats::ChiSquareResult r = zoomedChiSquare(*c.b, c.wo, c.centre, rng);
-        INFO(c.what << ": " << r.summary());
-        CHECK(r.passes(1e-3));
-        CHECK(r.cells > 100);  // the grid did resolve the lobe
     }
 }
 

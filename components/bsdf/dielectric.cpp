@@ -41,17 +41,7 @@ public:
     static Schema schema() {
         Schema s("bsdf", "dielectric", "Smooth dielectric interface (glass), with dispersion for spectral indices.");
         s.cite("M. Born, E. Wolf, Principles of Optics, §1.5; Wilkie et al. 2014, Hero Wavelength Spectral Sampling");
-        declareIOR(s, "int_ior", DefaultIntIOR, "Interior index of refraction");
-        declareIOR(s, "ext_ior", DefaultExtIOR, "Exterior index of refraction");
-        s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance, "Factor on the reflected part")
-            .range(0.0, 1.0);
-        s.texture("specular_transmittance", 1.f, SpectrumKind::Reflectance, "Factor on the transmitted part")
-            .range(0.0, 1.0);
-        // effigi-conform: ordinary and extreme parameters (index-matched, dense, dispersive).
-        s.addConformance({"default", {}});
-        s.addConformance({"ior 1.0001", {{"int_ior", 1.0001}, {"ext_ior", 1.0}}});
-        s.addConformance({"ior 4", {{"int_ior", 4.0}, {"ext_ior", 1.0}}});
-        s.addConformance({"dispersive bk7", {{"int_ior", SpectrumValue{{}, {}, 0.f, 1.f, "bk7"}}}});
+        declareSmoothDielectric(s, "Interior index of refraction", "Exterior index of refraction");
         s.addConformance({"inverted (ior 1 in 1.5)", {{"int_ior", 1.0}, {"ext_ior", 1.5}}});
         return s;
     }

@@ -24,6 +24,21 @@ inline void declareIOR(Schema& s, const std::string& name, double def, const std
         .orName();
 }
 
+/// Parameters and conformance configurations of a smooth dielectric BSDF: the two
+/// indices, the reflected and transmitted factors, and ordinary and extreme indices
+/// (index-matched, dense, dispersive).
+inline void declareSmoothDielectric(Schema& s, const std::string& intDoc, const std::string& extDoc) {
+    declareIOR(s, "int_ior", DefaultIntIOR, intDoc);
+    declareIOR(s, "ext_ior", DefaultExtIOR, extDoc);
+    s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance, "Factor on the reflected part").range(0.0, 1.0);
+    s.texture("specular_transmittance", 1.f, SpectrumKind::Reflectance, "Factor on the transmitted part")
+        .range(0.0, 1.0);
+    s.addConformance({"default", {}});
+    s.addConformance({"ior 1.0001", {{"int_ior", 1.0001}, {"ext_ior", 1.0}}});
+    s.addConformance({"ior 4", {{"int_ior", 4.0}, {"ext_ior", 1.0}}});
+    s.addConformance({"dispersive bk7", {{"int_ior", SpectrumValue{{}, {}, 0.f, 1.f, "bk7"}}}});
+}
+
 /// One index parameter as a spectrum; names resolve through namedIOR (then, for
 /// <spectrum value="name">, the shipped named spectra). Every value must be finite and > 0.
 inline Spectrum readIOR(const Properties& p, const std::string& name) {

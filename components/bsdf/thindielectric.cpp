@@ -31,17 +31,7 @@ public:
     static Schema schema() {
         Schema s("bsdf", "thindielectric", "Thin dielectric slab (window pane): specular reflection or straight transmission.");
         s.cite("M. Born, E. Wolf, Principles of Optics, §1.6 (plane-parallel plate)");
-        declareIOR(s, "int_ior", DefaultIntIOR, "Index of refraction of the slab");
-        declareIOR(s, "ext_ior", DefaultExtIOR, "Index of refraction around the slab");
-        s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance, "Factor on the reflected part")
-            .range(0.0, 1.0);
-        s.texture("specular_transmittance", 1.f, SpectrumKind::Reflectance, "Factor on the transmitted part")
-            .range(0.0, 1.0);
-        // effigi-conform: ordinary and extreme parameters (index-matched, dense, dispersive).
-        s.addConformance({"default", {}});
-        s.addConformance({"ior 1.0001", {{"int_ior", 1.0001}, {"ext_ior", 1.0}}});
-        s.addConformance({"ior 4", {{"int_ior", 4.0}, {"ext_ior", 1.0}}});
-        s.addConformance({"dispersive bk7", {{"int_ior", SpectrumValue{{}, {}, 0.f, 1.f, "bk7"}}}});
+        declareSmoothDielectric(s, "Index of refraction of the slab", "Index of refraction around the slab");
         return s;
     }
 

@@ -48,28 +48,14 @@ public:
 
     RenderStats render(const Scene& scene, const RenderControl& control) override {
         double solveSeconds = m_solution.prepare(scene, control);
-        const ICamera& camera = scene.camera();
-        Point2f offset(camera.film().cropOffset());
-        RenderStats stats = renderTiles(
-            scene, control, {"X", "Y", "Z"}, "Rendering",
-            [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block, TileStats& ts) {
-                sampler.startPixel(px);
-                for (std::uint64_t k = range.first; k < range.first + range.count; ++k) {
-                    sampler.startSample(k);
-                    Point2f pFilm = Point2f(px) + sampler.getPixel2D();
-                    SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-                    SampledSpectrum weight(1.f);
-                    Ray ray = camera.generateRay({pFilm + offset, sampler.get2D(), 0.f}, lambda, weight);
-                    Vector3f xyz(0.f);
-                    SurfaceInteraction si;
-                    if (scene.intersect(ray, si) && m_solution.xyz(si, m_gouraud, xyz)) xyz *= weight.average();
-                    if (!isFinite(xyz)) {  // keep NaN/Inf off the film; counted and reported
-                        ++ts.rejected;
-                        xyz = Vector3f(0.f);
-                    }
-                    ++ts.samples;
-                    block.put(pFilm, &xyz.x);
-                }
+        // The solution is colour already (XYZ from its bins), so the wavelengths only
+        // serve the camera; its weight is averaged over them.
+        RenderStats stats = renderCameraSamples(
+            scene, control, [&](const Ray& ray, const SampledWavelengths&, const SampledSpectrum& weight, ISampler&) {
+                Vector3f xyz(0.f);
+                SurfaceInteraction si;
+                if (scene.intersect(ray, si) && m_solution.xyz(si, m_gouraud, xyz)) xyz *= weight.average();
+                return xyz;
             });
         stats.seconds += solveSeconds;
         stats.interrupted = stats.interrupted || m_solution.interrupted();

@@ -59,27 +59,12 @@ public:
 
     RenderStats render(const Scene& scene, const RenderControl& control) override {
         double solveSeconds = m_solution.prepare(scene, control);
-        const ICamera& camera = scene.camera();
-        Point2f offset(camera.film().cropOffset());
-        RenderStats stats = renderTiles(
-            scene, control, {"X", "Y", "Z"}, "Rendering",
-            [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block, TileStats& ts) {
-                sampler.startPixel(px);
-                for (std::uint64_t k = range.first; k < range.first + range.count; ++k) {
-                    sampler.startSample(k);
-                    SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-                    Point2f pFilm = Point2f(px) + sampler.getPixel2D();
-                    SampledSpectrum weight(1.f);
-                    Ray ray = camera.generateRay({pFilm + offset, sampler.get2D(), 0.f}, lambda, weight);
-                    SampledSpectrum L = weight * trace(scene, ray, lambda, sampler);
-                    Vector3f xyz = cie::toXYZ(L, lambda);
-                    if (!isFinite(xyz)) {  // keep NaN/Inf off the film; counted and reported
-                        ++ts.rejected;
-                        xyz = Vector3f(0.f);
-                    }
-                    ++ts.samples;
-                    block.put(pFilm, &xyz.x);
-                }
+        RenderStats stats = renderCameraSamples(
+            scene, control,
+            [&](const Ray& ray, SampledWavelengths& lambda, const SampledSpectrum& weight, ISampler& sampler) {
+                // trace() may terminate secondary wavelengths: convert after it returns.
+                const SampledSpectrum L = weight * trace(scene, ray, lambda, sampler);
+                return cie::toXYZ(L, lambda);
             });
         stats.seconds += solveSeconds;
         stats.interrupted = stats.interrupted || m_solution.interrupted();

@@ -25,16 +25,14 @@
 // B. Burley, "Practical Hash-based Owen Scrambling", JCGT 9(4), 2020;
 // T. Kollig, A. Keller, "Efficient Multidimensional Sampling", Eurographics 2002.
 #include "effigi/core/log.hpp"
-#include "effigi/core/registry.hpp"
-#include "effigi/interfaces/isampler.hpp"
-#include "effigi/math/sample_sequences.hpp"
+#include "hashed_sampler.hpp"
 
 #include <algorithm>
 
 namespace effigi {
 namespace {
 
-class LowDiscrepancySampler final : public Implements<ISampler> {
+class LowDiscrepancySampler final : public HashedSampler<LowDiscrepancySampler> {
 public:
     static Schema schema() {
         Schema s("sampler", "ldsampler",
@@ -49,7 +47,7 @@ public:
         return s;
     }
 
-    explicit LowDiscrepancySampler(const Properties& p) : m_seed(std::uint64_t(p.getInt("seed"))) {
+    explicit LowDiscrepancySampler(const Properties& p) : HashedSampler(std::uint64_t(p.getInt("seed"))) {
         const std::int64_t requested = std::min<std::int64_t>(p.getInt("sample_count"), std::int64_t(1) << 30);
         m_count = std::bit_ceil(std::uint32_t(std::max<std::int64_t>(requested, 1)));
         if (std::int64_t(m_count) != requested)
@@ -70,19 +68,6 @@ public:
         return c;
     }
 
-    int samplesPerPixel() const override { return int(m_count); }
-
-    void startPixel(const Point2i& pixel) override {
-        std::uint64_t key = (std::uint64_t(std::uint32_t(pixel.x)) << 32) | std::uint32_t(pixel.y);
-        m_pixelHash = mixBits(key ^ mixBits(m_seed + 0x9e3779b97f4a7c15ull));
-        startSample(0);
-    }
-
-    void startSample(std::uint64_t index) override {
-        m_index = index;
-        m_dimension = 0;
-    }
-
     float get1D() override {
         const std::uint64_t key = nextDimensionKey();
         return fixedToFloat(owenScramble(vanDerCorput(sequenceIndex(key)), key));
@@ -96,14 +81,6 @@ public:
                 fixedToFloat(owenScramble(sobolSecond(i), mixBits(key ^ 0x5851f42d4c957f2dull)))};
     }
 
-    Ref<ISampler> clone(std::uint64_t streamOffset) const override {
-        auto copy = std::make_shared<LowDiscrepancySampler>(*this);
-        copy->setIdentity(typeName(), id());
-        copy->m_seed = m_seed + streamOffset;
-        copy->startPixel(Point2i(0));
-        return copy;
-    }
-
 private:
     std::uint64_t nextDimensionKey() { return mixBits(m_pixelHash ^ mixBits(std::uint64_t(m_dimension++) + 1)); }
 
@@ -115,12 +92,6 @@ private:
         const std::uint32_t within = permutationElement(std::uint32_t(m_index % m_count), m_count, key);
         return std::uint32_t(block * m_count + within);
     }
-
-    std::uint64_t m_seed;
-    std::uint32_t m_count = 1;          // 2^m samples per pixel
-    std::uint64_t m_pixelHash = 0;      // hash of (pixel, seed)
-    std::uint64_t m_index = 0;
-    std::uint32_t m_dimension = 0;      // draws made in the current sample
 };
 
 } // namespace

@@ -27,9 +27,7 @@
 // Reference: R. L. Cook, T. Porter, L. Carpenter, "Distributed Ray Tracing", SIGGRAPH 1984;
 // D. P. Mitchell, "Consequences of Stratified Sampling in Graphics", SIGGRAPH 1996.
 #include "effigi/core/log.hpp"
-#include "effigi/core/registry.hpp"
-#include "effigi/interfaces/isampler.hpp"
-#include "effigi/math/sample_sequences.hpp"
+#include "hashed_sampler.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -37,7 +35,7 @@
 namespace effigi {
 namespace {
 
-class StratifiedSampler final : public Implements<ISampler> {
+class StratifiedSampler final : public HashedSampler<StratifiedSampler> {
 public:
     static Schema schema() {
         Schema s("sampler", "stratified",
@@ -54,7 +52,7 @@ public:
     }
 
     explicit StratifiedSampler(const Properties& p)
-        : m_seed(std::uint64_t(p.getInt("seed"))), m_jitter(p.getBool("jitter")) {
+        : HashedSampler(std::uint64_t(p.getInt("seed"))), m_jitter(p.getBool("jitter")) {
         const std::int64_t requested = std::min<std::int64_t>(p.getInt("sample_count"), std::int64_t(1) << 30);
         m_resolution = std::max<std::uint32_t>(1, std::uint32_t(std::sqrt(double(requested))));
         while (std::int64_t(m_resolution) * m_resolution < requested) ++m_resolution;
@@ -77,19 +75,6 @@ public:
         return c;
     }
 
-    int samplesPerPixel() const override { return int(m_count); }
-
-    void startPixel(const Point2i& pixel) override {
-        std::uint64_t key = (std::uint64_t(std::uint32_t(pixel.x)) << 32) | std::uint32_t(pixel.y);
-        m_pixelHash = mixBits(key ^ mixBits(m_seed + 0x9e3779b97f4a7c15ull));
-        startSample(0);
-    }
-
-    void startSample(std::uint64_t index) override {
-        m_index = index;
-        m_dimension = 0;
-    }
-
     float get1D() override {
         const std::uint64_t key = nextDimensionKey();
         const std::uint32_t stratum = permutationElement(std::uint32_t(m_index % m_count), m_count, key);
@@ -102,14 +87,6 @@ public:
         const double res = double(m_resolution);
         return {toUnit((double(stratum % m_resolution) + jitter(key, 1)) / res),
                 toUnit((double(stratum / m_resolution) + jitter(key, 2)) / res)};
-    }
-
-    Ref<ISampler> clone(std::uint64_t streamOffset) const override {
-        auto copy = std::make_shared<StratifiedSampler>(*this);
-        copy->setIdentity(typeName(), id());
-        copy->m_seed = m_seed + streamOffset;
-        copy->startPixel(Point2i(0));
-        return copy;
     }
 
 private:
@@ -130,12 +107,8 @@ private:
     /// Rounding to float may reach 1; keep values in [0, 1).
     static float toUnit(double v) { return std::min(float(v), OneMinusEpsilon); }
 
-    std::uint64_t m_seed;
     bool m_jitter;
-    std::uint32_t m_resolution = 1, m_count = 1;  // √n and n = √n²
-    std::uint64_t m_pixelHash = 0;                // hash of (pixel, seed)
-    std::uint64_t m_index = 0;
-    std::uint32_t m_dimension = 0;                // draws made in the current sample
+    std::uint32_t m_resolution = 1;  // √n (m_count = √n²)
 };
 
 } // namespace

@@ -10,15 +10,18 @@ namespace effigi {
 
 using InterfaceId = std::uint64_t;
 
-/// FNV-1a of the interface name: stable across builds and modules.
-constexpr InterfaceId interfaceId(std::string_view name) {
+/// 64-bit FNV-1a of a string: stable across builds, platforms and modules.
+constexpr std::uint64_t fnv1a(std::string_view text) {
     std::uint64_t h = 1469598103934665603ull;
-    for (char c : name) {
+    for (char c : text) {
         h ^= static_cast<unsigned char>(c);
         h *= 1099511628211ull;
     }
     return h;
 }
+
+/// The interface id is the hash of its name.
+constexpr InterfaceId interfaceId(std::string_view name) { return fnv1a(name); }
 
 /// Shared ownership of components. Modules are never unloaded, so vtables outlive objects.
 template <typename T> using Ref = std::shared_ptr<T>;

@@ -6,6 +6,7 @@
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/irenderer.hpp"
 #include "effigi/interfaces/isampler.hpp"
+#include "effigi/render/image_block.hpp"
 #include "effigi/render/scene.hpp"
 
 #include <functional>
@@ -33,5 +34,34 @@ using PixelFunction = std::function<void(const Point2i& pixel, SampleRange sampl
 /// pass's samples of every pixel, merge. `label` names the progress bar.
 RenderStats renderTiles(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
                         const std::string& label, const PixelFunction& pixel);
+
+/// renderTiles for renderers that average independent camera samples into X, Y, Z: per
+/// sample a film position, hero wavelengths and a camera ray, then `xyzOf(ray, lambda,
+/// weight, sampler)` gives the sample's XYZ, `weight` being the camera's importance
+/// weight of the ray. NaN/Inf samples are kept off the film and counted.
+template <typename XYZOf>
+RenderStats renderCameraSamples(const Scene& scene, const RenderControl& control, XYZOf&& xyzOf) {
+    const ICamera& camera = scene.camera();
+    const Point2f offset(camera.film().cropOffset());
+    return renderTiles(
+        scene, control, {"X", "Y", "Z"}, "Rendering",
+        [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block, TileStats& ts) {
+            sampler.startPixel(px);
+            for (std::uint64_t k = range.first; k < range.first + range.count; ++k) {
+                sampler.startSample(k);
+                const Point2f pFilm = Point2f(px) + sampler.getPixel2D();
+                SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
+                SampledSpectrum weight(1.f);
+                Ray ray = camera.generateRay({pFilm + offset, sampler.get2D(), 0.f}, lambda, weight);
+                Vector3f xyz = xyzOf(ray, lambda, weight, sampler);
+                if (!isFinite(xyz)) {
+                    ++ts.rejected;
+                    xyz = Vector3f(0.f);
+                }
+                ++ts.samples;
+                block.put(pFilm, &xyz.x);
+            }
+        });
+}
 
 } // namespace effigi
