@@ -8,6 +8,7 @@
 // "closest hit" or "any hit" and names the scene where the fault shows.
 //
 // All scenes and rays are seeded; nothing here depends on timing.
+#include "conformance/accelerator_builder.hpp"  // SuiteMesh
 #include "conformance/conformance.hpp"
 
 #include "app_runner.hpp"
@@ -26,24 +27,6 @@
 using namespace effigi;
 
 namespace {
-
-/// A bare triangle mesh as a shape.
-class TestMesh final : public Implements<IShape> {
-public:
-    explicit TestMesh(TriangleMesh m) : m_mesh(std::move(m)), m_bbox(m_mesh.bbox()) {}
-    BBox3f bbox() const override { return m_bbox; }
-    const TriangleMesh* mesh() const override { return &m_mesh; }
-    SurfaceInteraction interaction(const Ray&, const Hit&) const override { return {}; }
-    float area() const override { return 0.f; }
-    PositionSample samplePosition(const Point2f&) const override { return {}; }
-    const IBSDF* bsdf() const override { return nullptr; }
-    const IEmitter* emitter() const override { return nullptr; }
-    IEmitter* emitter() override { return nullptr; }
-
-private:
-    TriangleMesh m_mesh;
-    BBox3f m_bbox;
-};
 
 Ref<IIntersect> makeAccel(const std::string& name, const std::vector<std::pair<std::string, PropertyValue>>& params = {}) {
     Properties p("accelerator", name);
@@ -76,7 +59,7 @@ Scene randomScene(std::uint64_t seed) {
         for (int k = 0; k < 3; ++k) m[i % 2].positions.push_back(c + size * randomDirection(rng));
         m[i % 2].indices.insert(m[i % 2].indices.end(), {base, base + 1, base + 2});
     }
-    for (auto& mesh : m) s.add(std::make_shared<TestMesh>(std::move(mesh)));
+    for (auto& mesh : m) s.add(std::make_shared<conform::SuiteMesh>(std::move(mesh)));
     for (int i = 0; i < 2; ++i) {
         Properties p("shape", "sphere");
         p.set("center", PointValue{Point3f(rng.nextFloat() - 0.5f, rng.nextFloat() - 0.5f, rng.nextFloat() - 0.5f)});
@@ -151,7 +134,7 @@ TEST_CASE("accelerators: empty scene and a single triangle", "[accelerator]") {
         m.positions = {{0, 0, 2}, {1, 0, 2}, {0, 1, 2}};
         m.indices = {0, 1, 2};
         Scene s;
-        s.add(std::make_shared<TestMesh>(std::move(m)));
+        s.add(std::make_shared<conform::SuiteMesh>(std::move(m)));
         Ref<IIntersect> one = makeAccel(name);
         one->build(s.shapes);
         Ray r{Point3f(0.25f, 0.25f, 0.f), Vector3f(0.f, 0.f, 1.f)};
