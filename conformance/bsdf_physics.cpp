@@ -130,7 +130,8 @@ void checkEnergy(Target& t, const IBSDF& b) {
 }
 
 void checkDelta(Target& t, const IBSDF& b) {
-    if (!(b.flags() & BSDFSpecular)) return;
+    // A pass-through (BSDFNull) lobe is sampled as a delta transmission with η = 1.
+    if (!(b.flags() & (BSDFSpecular | BSDFNull))) return;
     PCG32 rng = t.rng("delta");
     const SurfaceInteraction si = probePoint();
     const std::uint64_t n = t.count(20000, 4000);
@@ -166,6 +167,15 @@ void checkDelta(Target& t, const IBSDF& b) {
             expected = tangential + Vector3f(0.f, 0.f, (wo.z > 0.f ? -1.f : 1.f) * safeSqrt(1.f - s2));
         } else {
             expected = Vector3f(-wo.x, -wo.y, wo.z);
+        }
+        if (bs->flags & BSDFNull) {
+            // The pass-through lobe: wi = −wo exactly, and its value is the transmission
+            // shadow rays use: f·|cos θ| = evalNullTransmission().
+            expected = -wo;
+            SampledSpectrum tn = b.evalNullTransmission(si, l);
+            double e = relativeError(double(bs->f[0]) * std::abs(bs->wi.z), tn[0], 1e-6);
+            if (!(e <= 1e-4)) bad(fmt::format("wo = {}: null sample f·|cos| = {}, evalNullTransmission = {}", vec(wo),
+                                              bs->f[0] * std::abs(bs->wi.z), tn[0]));
         }
         double err = length(bs->wi - expected);
         if (!(err <= DirTolerance)) bad(fmt::format("wo = {}: wi = {}, expected {}", vec(wo), vec(bs->wi), vec(expected)));

@@ -15,6 +15,7 @@ packages=(
   libpugixml-dev       # XML scenes
   libtinyobjloader-dev # OBJ meshes
   libfmt-dev           # formatting
+  zlib1g-dev           # Mitsuba .serialized meshes
 )
 
 missing=()

@@ -1,6 +1,8 @@
 // Cameras: the perspective camera's orientation conventions (Mitsuba's: image right is
 // the camera's right, image top is up), field of view along each fov_axis choice,
 // principal-point offset, ray properties, nested film/sampler and parameter errors.
+#include "camera_helpers.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/icamera.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -12,36 +14,17 @@ using namespace effigi;
 
 namespace {
 
-using Params = std::vector<std::pair<std::string, PropertyValue>>;
-
-Ref<IFilm> makeFilm(int w, int h) {
-    Properties p("film", "hdrfilm");
-    p.set("width", std::int64_t(w));
-    p.set("height", std::int64_t(h));
-    Ref<IFilm> f = query<IFilm>(Registry::instance().create("film", "hdrfilm", p));
-    REQUIRE(f);
-    return f;
-}
+using test::makeFilm;
+using test::Params;
 
 /// Camera at (0,0,3.9) looking at the origin with +y up (the Cornell box view).
-Ref<ICamera> makeCamera(int w, int h, Params params = {}) {
-    Properties p("camera", "perspective");
-    p.set("to_world", Transform::lookAt({0.f, 0.f, 3.9f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}));
-    p.set("film", ComponentValue{"film", makeFilm(w, h)});
-    for (auto& [k, v] : params) p.set(k, v);
-    Ref<ICamera> c = query<ICamera>(Registry::instance().create("camera", "perspective", p));
-    REQUIRE(c);
-    return c;
+Ref<ICamera> makeCamera(int w, int h, const Params& params = {}) {
+    Params all = {{"to_world", Transform::lookAt({0.f, 0.f, 3.9f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f})}};
+    all.insert(all.end(), params.begin(), params.end());
+    return test::makeCamera("perspective", w, h, all);
 }
 
-Ray rayAt(const ICamera& cam, float x, float y) {
-    CameraSample s;
-    s.pFilm = Point2f(x, y);
-    SampledSpectrum w(0.f);
-    Ray r = cam.generateRay(s, SampledWavelengths::constant(550.f), w);
-    CHECK(w[0] == 1.f);
-    return r;
-}
+Ray rayAt(const ICamera& cam, float x, float y) { return test::rayAt(cam, Point2f(x, y)); }
 
 /// Angle (degrees) between a ray and the viewing axis −z.
 float angleToAxis(const Ray& r) { return std::acos(std::clamp(-r.d.z, -1.f, 1.f)) * 180.f / Pi; }
@@ -144,7 +127,9 @@ TEST_CASE("perspective camera: nested film and sampler, defaults", "[camera]") {
     // Identity to_world: looks along +z, image right is local −x.
     Ray r = rayAt(*cam, 32.f, 8.f);
     CHECK(r.d.x < 0.f);
-    CHECK(angleToAxis(Ray{r.o, -r.d, r.tMax}) == Approx(39.3077f / 2).epsilon(1e-4));
+    // Default lens 50mm: tan(half diagonal fov) = √(36² + 24²) / 100, split W : H = 2 : 1.
+    float halfX = std::sqrt(36.f * 36.f + 24.f * 24.f) / 100.f * 2.f / std::sqrt(5.f);
+    CHECK(angleToAxis(Ray{r.o, -r.d, r.tMax}) == Approx(deg(std::atan(halfX))).epsilon(1e-4));
 
     // Everything defaulted: an hdrfilm and an independent sampler.
     Properties d("camera", "perspective");
@@ -164,4 +149,19 @@ TEST_CASE("perspective camera: bad parameters are errors", "[camera]") {
     Properties p("camera", "perspective");
     p.set("to_world", Transform::scale({2.f, 2.f, 2.f}));
     CHECK_THROWS_WITH(Registry::instance().create("camera", "perspective", p), Catch::Contains("to_world"));
+}
+
+TEST_CASE("perspective camera: without fov or focal_length it is a 50mm lens on the diagonal (Mitsuba 3)", "[camera]") {
+    // Mitsuba 3's projective cameras default to focal_length "50mm": the diagonal field of
+    // view of 35 mm film (36 x 24 mm), 2·atan(√(36² + 24²) / 100) ≈ 46.79°.
+    auto byDefault = makeCamera(64, 64, {});
+    auto lens = makeCamera(64, 64, {{"focal_length", std::string("50mm")}});
+    auto diag = makeCamera(64, 64, {{"fov", 46.7930}, {"fov_axis", std::string("diagonal")}});
+    for (Point2f p : {Point2f(0.f, 0.f), Point2f(64.f, 32.f), Point2f(10.f, 50.f)}) {
+        Vector3f a = rayAt(*byDefault, p.x, p.y).d, b = rayAt(*lens, p.x, p.y).d, c = rayAt(*diag, p.x, p.y).d;
+        for (int k = 0; k < 3; ++k) {
+            CHECK(a[k] == Approx(b[k]).margin(1e-6));
+            CHECK(a[k] == Approx(c[k]).margin(1e-4));
+        }
+    }
 }

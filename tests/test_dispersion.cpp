@@ -3,6 +3,7 @@
 // gathered before the slab, as a path tracer has it), with a negative control showing the
 // test can see a biased variant, and a BK7 prism that sends blue and red to opposite sides.
 // Statistical tests are seeded; each states its tolerance.
+#include "../components/bsdf/delta_bsdf.hpp"
 #include "bsdf_helpers.hpp"
 
 #include "effigi/math/rng.hpp"
@@ -36,17 +37,9 @@ float prefix(float l) { return (l - 360.f) / 470.f; }
 /// The same lobe choice with F at the HERO wavelength (termination on refraction only): the
 /// chance of terminating then depends on which wavelength is the hero, which biases the
 /// radiance gathered before this vertex. Used only as the negative control.
-class HeroChoiceDielectric final : public Implements<IBSDF> {
+class HeroChoiceDielectric final : public DeltaBSDF {
 public:
     std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
-    SampledSpectrum f(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-                      TransportMode) const override {
-        return SampledSpectrum(0.f);
-    }
-    float pdf(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-              TransportMode) const override {
-        return 0.f;
-    }
     std::optional<BSDFSample> sample(const SurfaceInteraction&, const Vector3f& wo, float uc, const Point2f&,
                                      SampledWavelengths& l, TransportMode) const override {
         SampledSpectrum F;

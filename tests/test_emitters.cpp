@@ -2,24 +2,17 @@
 // closed form, one-sidedness, emission sampling, error cases), point lights (inverse
 // square law, placement) and the constant environment (irradiance π·L, bounding
 // sphere). Monte Carlo checks are seeded; tolerances are stated where they are used.
-#include "effigi/core/registry.hpp"
-#include "effigi/interfaces/iemitter.hpp"
+#include "emitter_helpers.hpp"
+
 #include "effigi/interfaces/ishape.hpp"
 #include "effigi/math/rng.hpp"
 
 #include <catch2/catch.hpp>
 
 using namespace effigi;
+using namespace effigi::test;
 
 namespace {
-
-Ref<IEmitter> makeEmitter(const std::string& name, std::vector<std::pair<std::string, PropertyValue>> params = {}) {
-    Properties p("emitter", name);
-    for (auto& [k, v] : params) p.set(k, v);
-    Ref<IEmitter> e = query<IEmitter>(Registry::instance().create("emitter", name, p));
-    REQUIRE(e);
-    return e;
-}
 
 /// A unit square [-½,½]² at z = 0, normal +z, carrying the given emitter.
 Ref<IShape> makeUnitSquare(const Ref<IEmitter>& emitter) {
@@ -73,7 +66,7 @@ McResult irradianceByLightSampling(const IEmitter& e, const Point3f& ref, const 
 } // namespace
 
 TEST_CASE("area emitter: irradiance from a unit square matches Lambert's formula", "[emitter]") {
-    auto light = makeEmitter("area");
+    auto light = makeEmitter("area", {{"radiance", flat(1.0)}});
     auto square = makeUnitSquare(light);
     light->preprocess(square->bbox());
     CHECK(light->flags() == EmitterSurface);
@@ -104,7 +97,7 @@ TEST_CASE("area emitter: irradiance from a unit square matches Lambert's formula
 }
 
 TEST_CASE("area emitter: sampleDirect pdf equals pdfDirect, eval is one-sided", "[emitter]") {
-    auto light = makeEmitter("area", {{"radiance", 3.0}});
+    auto light = makeEmitter("area", {{"radiance", flat(3.0)}});
     auto square = makeUnitSquare(light);
     light->preprocess(square->bbox());
     auto lambda = SampledWavelengths::sampleVisible(0.2f);
@@ -130,7 +123,7 @@ TEST_CASE("area emitter: sampleDirect pdf equals pdfDirect, eval is one-sided", 
 }
 
 TEST_CASE("area emitter: the back side is dark", "[emitter]") {
-    auto light = makeEmitter("area");
+    auto light = makeEmitter("area", {{"radiance", flat(1.0)}});
     auto square = makeUnitSquare(light);
     light->preprocess(square->bbox());
     McResult mc = irradianceByLightSampling(*light, {0.1f, 0.f, -1.f}, {0.f, 0.f, 1.f}, 1000, 3);
@@ -142,7 +135,7 @@ TEST_CASE("area emitter: the back side is dark", "[emitter]") {
 }
 
 TEST_CASE("area emitter: emission samples leave the front cosine-weighted", "[emitter]") {
-    auto light = makeEmitter("area", {{"radiance", 2.0}});
+    auto light = makeEmitter("area", {{"radiance", flat(2.0)}});
     auto square = makeUnitSquare(light);
     auto lambda = SampledWavelengths::constant(600.f);
     PCG32 rng(4, 2);
@@ -165,7 +158,7 @@ TEST_CASE("area emitter: emission samples leave the front cosine-weighted", "[em
 }
 
 TEST_CASE("area emitter: misuse is an error, never a crash", "[emitter]") {
-    auto loose = makeEmitter("area");
+    auto loose = makeEmitter("area", {{"radiance", flat(1.0)}});
     auto lambda = SampledWavelengths::constant(550.f);
     EmitterSample es = loose->sampleDirect({0.f, 0.f, 1.f}, {0.5f, 0.5f}, lambda);
     CHECK(es.pdf == 0.f);
@@ -174,7 +167,7 @@ TEST_CASE("area emitter: misuse is an error, never a crash", "[emitter]") {
     CHECK_THROWS_WITH(loose->preprocess(BBox3f()), Catch::Contains("nested in a shape"));
 
     // One emitter cannot belong to two shapes.
-    auto shared = makeEmitter("area");
+    auto shared = makeEmitter("area", {{"radiance", flat(1.0)}});
     auto first = makeUnitSquare(shared);
     CHECK_THROWS_AS(makeUnitSquare(shared), Error);
 
@@ -186,7 +179,7 @@ TEST_CASE("area emitter: misuse is an error, never a crash", "[emitter]") {
 }
 
 TEST_CASE("point emitter: inverse-square law and placement", "[emitter]") {
-    auto light = makeEmitter("point", {{"position", PointValue{{1.f, 2.f, 3.f}}}, {"intensity", 5.0}});
+    auto light = makeEmitter("point", {{"position", PointValue{{1.f, 2.f, 3.f}}}, {"intensity", flat(5.0)}});
     CHECK(light->flags() == EmitterDeltaPosition);
     CHECK(light->isDelta());
     CHECK(light->power() == Approx(4.0 * M_PI * 5.0));
@@ -207,7 +200,7 @@ TEST_CASE("point emitter: inverse-square law and placement", "[emitter]") {
     CHECK(at.L.isFinite());
 
     // to_world's translation places it the same way.
-    auto moved = makeEmitter("point", {{"to_world", Transform::translate({1.f, 2.f, 3.f})}, {"intensity", 5.0}});
+    auto moved = makeEmitter("point", {{"to_world", Transform::translate({1.f, 2.f, 3.f})}, {"intensity", flat(5.0)}});
     EmitterSample es = moved->sampleDirect({1.f, 2.f, 1.f}, {0.f, 0.f}, lambda);
     CHECK(es.dist == Approx(2.f));
     CHECK(es.L[0] == Approx(1.25f));
@@ -230,7 +223,7 @@ TEST_CASE("point emitter: inverse-square law and placement", "[emitter]") {
 }
 
 TEST_CASE("constant environment: irradiance π·L, sampling consistent", "[emitter]") {
-    auto env = makeEmitter("constant", {{"radiance", 2.0}});
+    auto env = makeEmitter("constant", {{"radiance", flat(2.0)}});
     CHECK(env->isInfinite());
     BBox3f bounds(Point3f(-1.f, 0.f, -2.f), Point3f(3.f, 1.f, 2.f));
     env->preprocess(bounds);
@@ -273,4 +266,23 @@ TEST_CASE("constant environment: irradiance π·L, sampling consistent", "[emitt
     CHECK(em.pdfPosition > 0.f);
     tiny->preprocess(BBox3f());
     CHECK(std::isfinite(tiny->sampleEmission({0.3f, 0.3f}, {0.2f, 0.9f}, lambda).pdfPosition));
+}
+
+TEST_CASE("emission given as a bare number is a grey of the colour space (Mitsuba's scaled D65)", "[emitter]") {
+    // Mitsuba 3's spectral variants read <float name="radiance" value="v"/> as v · D65
+    // (normalised), the same as <rgb value="v, v, v"/>, and <spectrum value="v"/> as flat.
+    auto number = makeEmitter("constant", {{"radiance", 2.0}});
+    auto grey = makeEmitter("constant", {{"radiance", RGBValue{Vector3f(2.f)}}});
+    auto flatEnv = makeEmitter("constant", {{"radiance", flat(2.0)}});
+    for (float l : {400.f, 450.f, 550.f, 650.f, 700.f}) {
+        auto lambda = SampledWavelengths::constant(l);
+        Vector3f d(0.f, 0.f, 1.f);
+        INFO("lambda " << l);
+        CHECK(number->evalEnvironment(d, lambda)[0] == Approx(grey->evalEnvironment(d, lambda)[0]).epsilon(1e-5));
+        CHECK(flatEnv->evalEnvironment(d, lambda)[0] == Approx(2.f));
+    }
+    // D65 is not flat: blue and red ends differ (Mitsuba: 1.18 at 450 nm, 0.81 at 650 nm per unit).
+    float blue = number->evalEnvironment({0.f, 0.f, 1.f}, SampledWavelengths::constant(450.f))[0];
+    float red = number->evalEnvironment({0.f, 0.f, 1.f}, SampledWavelengths::constant(650.f))[0];
+    CHECK(blue / red == Approx(1.18193 / 0.808373).epsilon(0.03));
 }

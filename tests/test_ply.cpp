@@ -1,6 +1,7 @@
 // Mesh file readers: the PLY reader (ascii and both binary byte orders, alternative
 // property names, one test per class of malformed file) and the ply and obj shapes.
 #include "shape_helpers.hpp"
+#include "temp_files.hpp"
 
 #include "effigi/render/ply_reader.hpp"
 
@@ -8,8 +9,6 @@
 #include <bit>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
 
 using namespace effigi;
 using namespace effigi::test;
@@ -17,25 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// A per-process scratch directory, removed at exit.
-fs::path tempDir() {
-    struct Scratch {
-        fs::path dir = fs::temp_directory_path() / fmt::format("effigi_test_ply_{}", ::getpid());
-        Scratch() { fs::create_directories(dir); }
-        ~Scratch() {
-            std::error_code ec;
-            fs::remove_all(dir, ec);
-        }
-    };
-    static Scratch scratch;
-    return scratch.dir;
-}
-
-fs::path writeFile(const std::string& name, const std::string& bytes) {
-    fs::path p = tempDir() / name;
-    std::ofstream(p, std::ios::binary) << bytes;
-    return p;
-}
+/// Removed at exit with everything the tests wrote into it.
+const ScratchDir scratch("ply");
 
 /// 1-based line number of a byte offset.
 int lineOf(const std::string& s, std::size_t at) { return 1 + int(std::count(s.begin(), s.begin() + long(at), '\n')); }
@@ -133,9 +115,9 @@ std::vector<PlyElem> sampleContent() {
 
 TEST_CASE("PLY: ascii, binary little and big endian give identical meshes", "[shapes][ply]") {
     auto content = sampleContent();
-    TriangleMesh a = readPly(writeFile("same_ascii.ply", writePly(content, "ascii")));
-    TriangleMesh le = readPly(writeFile("same_le.ply", writePly(content, "binary_little_endian")));
-    TriangleMesh be = readPly(writeFile("same_be.ply", writePly(content, "binary_big_endian")));
+    TriangleMesh a = readPly(scratch.write("same_ascii.ply", writePly(content, "ascii")));
+    TriangleMesh le = readPly(scratch.write("same_le.ply", writePly(content, "binary_little_endian")));
+    TriangleMesh be = readPly(scratch.write("same_be.ply", writePly(content, "binary_big_endian")));
 
     // The quad is fan-triangulated: (0 1 2) (0 2 3), then the triangle (3 2 4).
     const std::vector<std::uint32_t> indices{0, 1, 2, 0, 2, 3, 3, 2, 4};
@@ -178,7 +160,7 @@ TEST_CASE("PLY: malformed files throw errors naming the file (and line)", "[shap
     const std::string goodBin = writePly(sampleContent(), "binary_little_endian");
     // needle ":N:" means "file:N:", anything else must appear besides the file name.
     auto check = [](const std::string& name, const std::string& bytes, const std::string& needle) {
-        fs::path p = writeFile(name, bytes);
+        fs::path p = scratch.write(name, bytes);
         INFO(name);
         if (needle.front() == ':') {
             requireThrowsNaming([&] { readPly(p); }, p.string() + needle);
@@ -228,13 +210,13 @@ TEST_CASE("PLY: malformed files throw errors naming the file (and line)", "[shap
         check("neg.ply", writePly({v, f}, "binary_big_endian"), "out of range");
     }
     SECTION("missing file") {
-        fs::path p = tempDir() / "does_not_exist.ply";
+        fs::path p = scratch.dir() / "does_not_exist.ply";
         requireThrowsNaming([&] { readPly(p); }, p.string());
     }
 }
 
 TEST_CASE("ply shape: loads through the registry, applies to_world and face_normals", "[shapes][ply]") {
-    fs::path p = writeFile("shape.ply", writePly(sampleContent(), "binary_little_endian"));
+    fs::path p = scratch.write("shape.ply", writePly(sampleContent(), "binary_little_endian"));
     Properties props("shape", "ply");
     props.set("filename", p.string());
     props.set("to_world", Transform::translate({0.f, 0.f, 10.f}));
@@ -248,7 +230,7 @@ TEST_CASE("ply shape: loads through the registry, applies to_world and face_norm
 
     // Errors from the component name the file too; a point cloud has no triangles.
     PlyElem v{"vertex", {{"float", "x", ""}, {"float", "y", ""}, {"float", "z", ""}}, {{{0}, {0}, {0}}}};
-    fs::path cloud = writeFile("cloud.ply", writePly({v}, "ascii"));
+    fs::path cloud = scratch.write("cloud.ply", writePly({v}, "ascii"));
     Properties cp("shape", "ply");
     cp.set("filename", cloud.string());
     requireThrowsNaming([&] { makeShape("ply", cp); }, cloud.string());
@@ -257,7 +239,7 @@ TEST_CASE("ply shape: loads through the registry, applies to_world and face_norm
 // ---- OBJ ------------------------------------------------------------------------------
 
 TEST_CASE("obj shape: polygons, texture coordinates, normals", "[shapes][obj]") {
-    fs::path p = writeFile("quad.obj", "# a quad and a triangle\nmtllib missing.mtl\n"
+    fs::path p = scratch.write("quad.obj", "# a quad and a triangle\nmtllib missing.mtl\n"
                                        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
                                        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
                                        "f 1/1/1 2/2/1 3/3/1 4/4/1\nf 4/4/1 3/3/1 5/1/1\n");
@@ -286,10 +268,10 @@ TEST_CASE("obj shape: missing or garbled files throw errors naming the file", "[
         INFO(p.string());
         requireThrowsNaming([&] { makeShape("obj", props); }, p.string());
     };
-    check(tempDir() / "missing.obj");
-    check(writeFile("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"));         // index 0 / junk
-    check(writeFile("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"));         // past the end
-    check(writeFile("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -7\n"));   // before the start
-    check(writeFile("nofaces.obj", "v 0 0 0\nv 1 0 0\n"));
-    check(writeFile("binary.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0garbage\xff\xfe", 20)));
+    check(scratch.dir() / "missing.obj");
+    check(scratch.write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n"));         // index 0 / junk
+    check(scratch.write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"));         // past the end
+    check(scratch.write("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -7\n"));   // before the start
+    check(scratch.write("nofaces.obj", "v 0 0 0\nv 1 0 0\n"));
+    check(scratch.write("binary.obj", std::string("\x7f" "ELF\x02\x01\x01\0\0\0garbage\xff\xfe", 20)));
 }

@@ -28,8 +28,14 @@ std::string valueText(const PropertyValue& v) {
 }
 
 std::string typeText(const ParamSpec& p) {
+    if (p.ignored) return "ignored";
     if (p.type == ParamType::Component) return p.multiple ? p.componentTag + " (any number)" : p.componentTag;
     return paramTypeName(p.type);
+}
+
+/// Ignored parameters say so: Mitsuba's plugin takes them, effigi accepts and skips them.
+std::string docText(const ParamSpec& p) {
+    return p.ignored ? "Accepted as in Mitsuba, ignored here (" + p.doc + ")" : p.doc;
 }
 
 std::string rangeText(const ParamSpec& p) {
@@ -49,7 +55,7 @@ void printText(const Schema& s) {
         std::string def = p.defaultValue ? valueText(*p.defaultValue) : (p.required ? "required" : "-");
         std::string extra = rangeText(p);
         std::printf("  %-18s %-10s %-14s %s%s%s\n", p.name.c_str(), typeText(p).c_str(), def.c_str(),
-                    p.doc.c_str(), p.unit.empty() ? "" : fmt::format(" [{}]", p.unit).c_str(),
+                    docText(p).c_str(), p.unit.empty() ? "" : fmt::format(" [{}]", p.unit).c_str(),
                     extra.empty() ? "" : fmt::format(" ({})", extra).c_str());
     }
 }
@@ -75,7 +81,7 @@ void printMarkdown(const Schema& s) {
     for (const auto& p : s.params()) {
         std::string def = p.defaultValue ? valueText(*p.defaultValue) : (p.required ? "required" : "—");
         std::string extra = rangeText(p);
-        std::string doc = p.doc + (p.unit.empty() ? "" : " [" + p.unit + "]") + (extra.empty() ? "" : " (" + extra + ")");
+        std::string doc = docText(p) + (p.unit.empty() ? "" : " [" + p.unit + "]") + (extra.empty() ? "" : " (" + extra + ")");
         std::printf("| `%s` | %s | %s | %s |\n", p.name.c_str(), cell(typeText(p)).c_str(), cell(def).c_str(),
                     cell(doc).c_str());
     }

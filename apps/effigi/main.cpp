@@ -16,6 +16,7 @@ void usage() {
                  "usage: effigi <command> [options]\n"
                  "  render scene.xml [-o out.exr] [-D name=value]... [-t threads] [-v] [--seed N] [--no-progress]\n"
                  "         [--time seconds] [--spp N] [--target-relmse e] [--reference]   progressive\n"
+                 "         [--dry-run]   load the scene (every component created), render nothing\n"
                  "  converge scene.xml [--reference ref.exr] [--renderer a,b] [--variant \"name: k=v ...\"]...\n"
                  "         [-D name=value]... [--time seconds per configuration] [--spp N] [--out dir]\n"
                  "  list [tag]                 components known, by tag\n"

@@ -60,7 +60,7 @@ int render(const std::vector<std::string>& args) {
     xml::ParseOptions opt;
     RenderControl control;
     ProgressiveOptions prog;
-    bool verbose = false, progressive = false, reference = false;
+    bool verbose = false, progressive = false, reference = false, dryRun = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "-o") outPath = needValue(args, i);
@@ -78,6 +78,7 @@ int render(const std::vector<std::string>& args) {
             prog.targetRelMSE = parseDouble(a, needValue(args, i)), progressive = true;
         else if (a == "--reference") reference = true;
         else if (a == "--no-progress") control.progress = false;
+        else if (a == "--dry-run") dryRun = true;
         else if (!a.empty() && a[0] == '-') fail("render: unknown option '{}'", a);
         else if (scenePath.empty()) scenePath = a;
         else fail("render: more than one scene given ('{}', '{}')", scenePath, a);
@@ -93,6 +94,15 @@ int render(const std::vector<std::string>& args) {
     auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (dryRun) {
+        // Load only: every element parsed and every component created (so every error a
+        // render would report up front is reported), nothing rendered or written.
+        Vector2i size = scene->camera().film().size();
+        std::printf("loaded %s: %zu shapes, %zu emitters, %dx%d, renderer %s (load %.2f s)\n", scenePath.c_str(),
+                    scene->shapes().size(), scene->emitters().size(), size.x, size.y,
+                    scene->renderer().typeName().c_str(), loadSeconds);
+        return 0;
+    }
 
     RenderStats stats;
     std::uint64_t spp = scene->camera().sampler().samplesPerPixel();

@@ -1,8 +1,9 @@
 #pragma once
 // The `material` / `eta` / `k` parameters shared by the conductor BSDFs (conductor,
-// roughconductor), as Mitsuba 3 has them: a measured metal by name (data/spectra/
-// <name>-eta.csv and <name>-k.csv), or an explicit complex index η + ik, or "none" — a
-// 100 % mirror (η = 0, k = 1).
+// roughconductor), as Mitsuba 3 has them: a measured material by name (data/spectra/
+// <name>-eta.csv and <name>-k.csv: Mitsuba's preset names, data from refractiveindex.info,
+// see data/README.md), or an explicit complex index η + ik, or "none" — a 100 % mirror
+// (η = 0, k = 1).
 #include "effigi/core/properties.hpp"
 #include "effigi/core/schema.hpp"
 #include "effigi/interfaces/itexture.hpp"
@@ -12,6 +13,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <iterator>
+#include <string_view>
 
 namespace effigi {
 
@@ -27,9 +30,16 @@ inline std::vector<std::string> measuredMetals() {
     return metals;
 }
 
+/// Mitsuba 3 presets for which refractiveindex.info has no usable 360-830 nm data, so effigi
+/// ships none (data/generate_ior.py, MISSING; data/README.md says why for each): named in the
+/// error so that a scene author knows the name is right but the data is absent, rather than
+/// misspelt.
+inline constexpr std::string_view kMissingPresets[] = {"Cu2O", "Cu2O_palik", "CuO", "CuO_palik", "HgTe",
+                                                       "HgTe_palik", "Se", "Se_palik", "SnTe", "SnTe_palik"};
+
 inline void declareConductorIOR(Schema& s) {
     s.string("material", "none",
-             "Measured metal (Au, Ag, Cu, Al, Cr, Ni, Pt, Ti, W), or none: a 100 % mirror (η = 0, k = 1)");
+             "Measured material: a Mitsuba 3 preset name (Au, Ag, Cu, Al, a-C, TiN, Hg, ..., see data/README.md), or none: a 100 % mirror (η = 0, k = 1)");
     ParamSpec& eta = s.optional("eta", ParamType::Texture, "Real part η of the complex IOR (default 0), instead of material");
     eta.spectrumKind = SpectrumKind::Unbounded;
     eta.componentTag = "texture";
@@ -56,6 +66,12 @@ inline ConductorIOR readConductorIOR(const Properties& p) {
                "{}: give either 'material' or 'eta' and 'k', not both (material = '{}')", p.describe(), material);
     std::vector<std::string> metals = measuredMetals();
     if (std::find(metals.begin(), metals.end(), material) == metals.end()) {
+        if (std::find(std::begin(kMissingPresets), std::end(kMissingPresets), material) != std::end(kMissingPresets))
+            failAt(p.whereOf("material"),
+                   "{}: parameter 'material' = '{}' is a Mitsuba preset that effigi has no data for "
+                   "(refractiveindex.info has no usable 360-830 nm measurement, see data/README.md); "
+                   "give 'eta' and 'k' instead",
+                   p.describe(), material);
         std::vector<std::string> choices = metals;
         choices.push_back("none");
         std::string hint = didYouMean(material, choices);

@@ -26,6 +26,7 @@
 //
 // References: M. Born & E. Wolf, Principles of Optics, §1.5; A. Wilkie et al., "Hero
 // Wavelength Spectral Sampling", EGSR 2014 (terminating the secondary wavelengths).
+#include "delta_bsdf.hpp"
 #include "dielectric_ior.hpp"
 
 #include "effigi/core/registry.hpp"
@@ -36,7 +37,7 @@
 namespace effigi {
 namespace {
 
-class Dielectric final : public Implements<IBSDF> {
+class Dielectric final : public DeltaBSDF {
 public:
     static Schema schema() {
         Schema s("bsdf", "dielectric", "Smooth dielectric interface (glass), with dispersion for spectral indices.");
@@ -51,16 +52,6 @@ public:
           m_transmittance(p.getTexture("specular_transmittance", SpectrumKind::Reflectance)) {}
 
     std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
-
-    SampledSpectrum f(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-                      TransportMode) const override {
-        return SampledSpectrum(0.f);
-    }
-
-    float pdf(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-              TransportMode) const override {
-        return 0.f;
-    }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f&,
                                      SampledWavelengths& lambda, TransportMode mode) const override {

@@ -10,6 +10,8 @@
 //   reflectance  texture (reflectance spectrum, default 0.5)  albedo ρ in [0, 1]
 //
 // Reference: J. H. Lambert, Photometria (1760); pbrt-v4 §9.2 for the sampling.
+#include "cosine_lobe.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
@@ -61,8 +63,7 @@ public:
 
     float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
-        if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
-        return warp::squareToCosineHemispherePdf(wi);
+        return oneSidedCosinePdf(wo, wi);
     }
 
     /// The hemispherical reflectance of a Lambertian surface is ρ for every wo.

@@ -20,7 +20,7 @@
 //
 // Parameters (as Mitsuba 3):
 //   distribution          string  beckmann (default) | ggx
-//   alpha                 float   0.1; or alpha_u, alpha_v (anisotropic)
+//   alpha                 texture 0.1; or alpha_u, alpha_v (anisotropic); float or texture
 //   sample_visible        bool    true
 //   material              string  "none" (100 % mirror, η = 0, k = 1) or a measured metal
 //   eta, k                texture (unbounded spectrum)  the complex index, instead of material
@@ -45,7 +45,7 @@ public:
         Schema s("bsdf", "roughconductor", "Rough conductor (metal): GGX or Beckmann microfacets with a spectral complex IOR.");
         s.cite("B. Walter et al., Microfacet Models for Refraction through Rough Surfaces, EGSR 2007; E. Heitz, "
                "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs, JCGT 3(2), 2014");
-        declareMicrofacet(s);
+        declareMicrofacet(s, /*textured=*/true);
         declareConductorIOR(s);
         s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance,
                   "Factor on the Fresnel reflectance (not physical; for artistic control)")
@@ -74,7 +74,7 @@ public:
     }
 
     explicit RoughConductor(const Properties& p)
-        : m_dist(readMicrofacet(p)), m_sampleVisible(p.getBool("sample_visible")),
+        : m_mf(p), m_sampleVisible(p.getBool("sample_visible")),
           m_reflectance(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)) {
         ConductorIOR ior = readConductorIOR(p);
         m_eta = ior.eta;
@@ -87,7 +87,8 @@ public:
                       const SampledWavelengths& lambda, TransportMode) const override {
         Vector3f h;
         if (!halfVector(wo, wi, h)) return SampledSpectrum(0.f);
-        float D = m_dist.D(h), G = m_dist.G(wo, wi);
+        const MicrofacetDistribution dist = m_mf.at(si);
+        float D = dist.D(h), G = dist.G(wo, wi);
         if (D == 0.f || G == 0.f) return SampledSpectrum(0.f);
         SampledSpectrum F = fresnelConductor(dot(wo, h), m_eta->eval(si, lambda), m_k->eval(si, lambda));
         // D G / (4 cosθo cosθi) in double: at α = 1e-4 and grazing both cosines, D / cos²
@@ -96,19 +97,21 @@ public:
         return F * m_reflectance->eval(si, lambda) * float(std::min(scale, 1e30));
     }
 
-    float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
+    float pdf(const SurfaceInteraction& si, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
         Vector3f h;
         if (!halfVector(wo, wi, h)) return 0.f;
+        const MicrofacetDistribution dist = m_mf.at(si);
         // Reflection maps m to wi with |dωi / dωm| = 4 (wo·m) (Walter 2007, eq. 14).
-        float pm = m_sampleVisible ? m_dist.visiblePdf(wo, h) : m_dist.normalPdf(h);
+        float pm = m_sampleVisible ? dist.visiblePdf(wo, h) : dist.normalPdf(h);
         return float(std::min(double(pm) / (4.0 * dot(wo, h)), 1e30));
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float, const Point2f& u,
                                      SampledWavelengths& lambda, TransportMode mode) const override {
         if (!(wo.z > 0.f)) return std::nullopt;  // one-sided
-        Vector3f m = m_sampleVisible ? m_dist.sampleVisible(wo, u) : m_dist.sampleNormal(u);
+        const MicrofacetDistribution dist = m_mf.at(si);
+        Vector3f m = m_sampleVisible ? dist.sampleVisible(wo, u) : dist.sampleNormal(u);
         float cosOM = dot(wo, m);
         if (!(cosOM > 0.f)) return std::nullopt;  // a back-facing normal (only when sampling all of D)
         BSDFSample bs;
@@ -134,7 +137,7 @@ private:
         return h.z > 0.f && dot(wo, h) > 0.f && dot(wi, h) > 0.f;
     }
 
-    MicrofacetDistribution m_dist;
+    MicrofacetParams m_mf;  // the roughness, constant or textured
     bool m_sampleVisible;
     Ref<ITexture> m_reflectance, m_eta, m_k;
 };

@@ -31,7 +31,7 @@
 //
 // Parameters (as Mitsuba 3):
 //   distribution            string  beckmann (default) | ggx
-//   alpha                   float   0.1; or alpha_u, alpha_v (anisotropic)
+//   alpha                   texture 0.1; or alpha_u, alpha_v (anisotropic); float or texture
 //   sample_visible          bool    true
 //   int_ior, ext_ior        as dielectric: a float, a spectrum or a name (bk7 is dispersive)
 //   specular_reflectance    texture (reflectance, default 1), factor on reflection
@@ -108,7 +108,7 @@ public:
     static Schema schema() {
         Schema s("bsdf", "roughdielectric", "Rough dielectric interface (frosted glass): GGX or Beckmann microfacets.");
         s.cite("B. Walter et al., Microfacet Models for Refraction through Rough Surfaces, EGSR 2007");
-        declareMicrofacet(s);
+        declareMicrofacet(s, /*textured=*/true);
         declareIOR(s, "int_ior", DefaultIntIOR, "Interior index of refraction");
         declareIOR(s, "ext_ior", DefaultExtIOR, "Exterior index of refraction");
         s.texture("specular_reflectance", 1.f, SpectrumKind::Reflectance, "Factor on the reflected part")
@@ -140,7 +140,7 @@ public:
     }
 
     explicit RoughDielectric(const Properties& p)
-        : m_dist(readMicrofacet(p)), m_sampleVisible(p.getBool("sample_visible")), m_eta(relativeIOR(p)),
+        : m_mf(p), m_sampleVisible(p.getBool("sample_visible")), m_eta(relativeIOR(p)),
           m_reflectance(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)),
           m_transmittance(p.getTexture("specular_transmittance", SpectrumKind::Reflectance)) {
         // Between equal indices the microfacets are invisible and transmission is a delta
@@ -158,29 +158,31 @@ public:
         return mode == TransportMode::Radiance ? evalRadiance(si, wo, wi, lambda) : evalRadiance(si, wi, wo, lambda);
     }
 
-    float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths& lambda,
+    float pdf(const SurfaceInteraction& si, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths& lambda,
               TransportMode) const override {
         if (wo.z == 0.f || wi.z == 0.f) return 0.f;
+        const MicrofacetDistribution dist = m_mf.at(si);
         float eta = m_eta.eval(lambda)[0];  // sampling follows the hero wavelength
         if (wo.z * wi.z > 0.f) {
             Vector3f m;
             float cosOM;
             if (!reflectionNormal(wo, wi, m, cosOM)) return 0.f;
             // Reflection maps m to wi with |dωi/dωm| = 4 |wo·m| (Walter 2007, eq. 14).
-            return toPdf(normalPdf(wo, m) * fresnelDielectric(cosOM, eta) / (4.0 * std::abs(cosOM)));
+            return toPdf(normalPdf(dist, wo, m) * fresnelDielectric(cosOM, eta) / (4.0 * std::abs(cosOM)));
         }
         Refraction r;
         if (!refractionNormal(wo, wi, eta, r)) return 0.f;
         // Refraction: |dωi/dωm| = ηi² |wi·m| / (ηo wo·m + ηi wi·m)² (Walter 2007, eq. 17).
         double F = r.fresnel(wo, eta);
-        return toPdf(normalPdf(wo, r.m) * (1.0 - F) * r.etaI * r.etaI * std::abs(r.cosIM) / r.v2);
+        return toPdf(normalPdf(dist, wo, r.m) * (1.0 - F) * r.etaI * r.etaI * std::abs(r.cosIM) / r.v2);
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f& u,
                                      SampledWavelengths& lambda, TransportMode mode) const override {
         if (wo.z == 0.f) return std::nullopt;
         float eta = m_eta.eval(lambda)[0];
-        Vector3f m = m_sampleVisible ? m_dist.sampleVisible(wo, u) : m_dist.sampleNormal(u);
+        const MicrofacetDistribution dist = m_mf.at(si);
+        Vector3f m = m_sampleVisible ? dist.sampleVisible(wo, u) : dist.sampleNormal(u);
         float cosOM = dot(wo, m);
         if (!(cosOM * wo.z > 0.f)) return std::nullopt;  // a back-facing normal (only when sampling all of D)
         BSDFSample bs;
@@ -230,26 +232,27 @@ private:
                                  const SampledWavelengths& lambda) const {
         if (wo.z == 0.f || wi.z == 0.f) return SampledSpectrum(0.f);
         SampledSpectrum eta = m_eta.eval(lambda), out(0.f);
+        const MicrofacetDistribution dist = m_mf.at(si);
         if (wo.z * wi.z > 0.f) {
             Vector3f m;
             float cosOM;
             if (!reflectionNormal(wo, wi, m, cosOM)) return out;
-            double dg = double(m_dist.D(m)) * m_dist.G(wo, wi) / (4.0 * std::abs(double(wo.z) * wi.z));
+            double dg = double(dist.D(m)) * dist.G(wo, wi) / (4.0 * std::abs(double(wo.z) * wi.z));
             if (!(dg > 0.0)) return out;
             for (int i = 0; i < NSpectrumSamples; ++i) out[i] = fresnelDielectric(cosOM, eta[i]);
             return out * m_reflectance->eval(si, lambda) * float(std::min(dg, 1e30));
         }
         // Each wavelength refracts through its own microfacet; a flat index reuses the first.
         for (int i = 0; i < NSpectrumSamples; ++i)
-            out[i] = i > 0 && eta[i] == eta[i - 1] ? out[i - 1] : transmission(wo, wi, eta[i]);
+            out[i] = i > 0 && eta[i] == eta[i - 1] ? out[i - 1] : transmission(dist, wo, wi, eta[i]);
         return out * m_transmittance->eval(si, lambda);
     }
 
     /// Walter's transmission term (radiance) for one relative index.
-    float transmission(const Vector3f& wo, const Vector3f& wi, float eta) const {
+    static float transmission(const MicrofacetDistribution& dist, const Vector3f& wo, const Vector3f& wi, float eta) {
         Refraction r;
         if (!refractionNormal(wo, wi, eta, r)) return 0.f;
-        double D = m_dist.D(r.m), G = m_dist.G(wo, wi);
+        double D = dist.D(r.m), G = dist.G(wo, wi);
         if (!(D * G > 0.0)) return 0.f;
         double F = r.fresnel(wo, eta);
         double v = std::abs(r.cosIM * r.cosOM) / std::abs(double(wi.z) * wo.z) * r.etaO * r.etaO * (1.0 - F) * G * D /
@@ -257,12 +260,12 @@ private:
         return float(std::min(v, 1e30));
     }
 
-    double normalPdf(const Vector3f& wo, const Vector3f& m) const {
-        return m_sampleVisible ? m_dist.visiblePdf(wo, m) : m_dist.normalPdf(m);
+    double normalPdf(const MicrofacetDistribution& dist, const Vector3f& wo, const Vector3f& m) const {
+        return m_sampleVisible ? dist.visiblePdf(wo, m) : dist.normalPdf(m);
     }
     static float toPdf(double p) { return p > 0.0 ? float(std::min(p, 1e30)) : 0.f; }
 
-    MicrofacetDistribution m_dist;
+    MicrofacetParams m_mf;  // the roughness, constant or textured
     bool m_sampleVisible;
     RelativeIOR m_eta;
     Ref<ITexture> m_reflectance, m_transmittance;

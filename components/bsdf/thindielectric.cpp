@@ -16,6 +16,7 @@
 //
 // Reference: M. Born & E. Wolf, Principles of Optics, §1.6 (multiple reflections in a
 // plane-parallel plate, incoherent sum).
+#include "delta_bsdf.hpp"
 #include "dielectric_ior.hpp"
 
 #include "effigi/core/registry.hpp"
@@ -26,7 +27,7 @@
 namespace effigi {
 namespace {
 
-class ThinDielectric final : public Implements<IBSDF> {
+class ThinDielectric final : public DeltaBSDF {
 public:
     static Schema schema() {
         Schema s("bsdf", "thindielectric", "Thin dielectric slab (window pane): specular reflection or straight transmission.");
@@ -40,16 +41,6 @@ public:
           m_transmittance(p.getTexture("specular_transmittance", SpectrumKind::Reflectance)) {}
 
     std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
-
-    SampledSpectrum f(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-                      TransportMode) const override {
-        return SampledSpectrum(0.f);
-    }
-
-    float pdf(const SurfaceInteraction&, const Vector3f&, const Vector3f&, const SampledWavelengths&,
-              TransportMode) const override {
-        return 0.f;
-    }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f&,
                                      SampledWavelengths& lambda, TransportMode) const override {

@@ -13,6 +13,8 @@
 //
 // Reference: Mitsuba 3 documentation, "Two-sided BRDF adapter (twosided)" (the scene
 // grammar); the mirroring is the reciprocity-preserving reflection of the local frame.
+#include "nested_bsdf.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 
@@ -21,19 +23,6 @@ namespace {
 
 /// The direction in the frame mirrored through the surface.
 Vector3f mirrored(const Vector3f& w) { return {w.x, w.y, -w.z}; }
-
-/// A nested BSDF for the conformance configurations, made through the registry; absent
-/// (so that configuration is left out) if it cannot be made.
-std::optional<PropertyValue> nestedBSDF(const std::string& type,
-                                        const std::vector<std::pair<std::string, PropertyValue>>& params = {}) {
-    try {
-        Properties p("bsdf", type);
-        for (const auto& [name, value] : params) p.set(name, value);
-        return ComponentValue{"bsdf", Registry::instance().create("bsdf", type, p)};
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
 
 class TwoSided final : public Implements<IBSDF> {
 public:

@@ -8,50 +8,44 @@
 // image plane sideways (off-axis projection) in units of the film size.
 //
 // Parameters:
-//   fov                      float (deg, default 39.3077, in (0, 180))  field of view along fov_axis
+//   fov                      float (deg, in (0, 180))  field of view along fov_axis; neither fov nor
+//                            focal_length: a 50mm lens (diagonal fov 46.8°), as in Mitsuba 3
 //   fov_axis                 string (x, y, diagonal, smaller, larger; default x)
-//   near_clip, far_clip      float (default 1e-2, 1e4)  clip distances; rays end at far_clip.
-//                            Rays start at the pinhole itself (near_clip is validated only).
+//   focal_length             string ("50mm": 35 mm equivalent, sets the diagonal fov; not with fov)
+//   near_clip, far_clip      float (default 1e-2, 1e4)  clip distances: rays start on the near
+//                            plane and end on the far plane.
 //   to_world                 transform  camera-to-world (use lookat); no scaling
 //   principal_point_offset_x/_y  float (default 0)  image-plane shift, fraction of the film size
 //   film, sampler            nested  default: hdrfilm and independent
 //
+// The projection is shared with thinlens and orthographic (projection.hpp). The camera
+// also implements ICameraImportance, so light tracers (ptracer) can connect to it.
 // Reference: M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §5.2.
-#include "effigi/core/registry.hpp"
-#include "effigi/interfaces/icamera.hpp"
-#include "effigi/interfaces/ifilm.hpp"
-#include "effigi/interfaces/isampler.hpp"
+#include "projection.hpp"
+
+#include "effigi/interfaces/icamera_importance.hpp"
 
 namespace effigi {
 namespace {
 
-/// A nested component, or the default one created from an empty parameter list.
-template <typename I> Ref<I> nestedOrDefault(const Properties& p, const std::string& name, const char* defaultType) {
-    Ref<I> obj = p.get<I>(name);
-    if (obj) return obj;
-    Properties defaults(I::Tag, defaultType, p.where());
-    obj = query<I>(Registry::instance().create(I::Tag, defaultType, defaults));
-    if (!obj) failAt(p.where(), "{}: the default {} '{}' is not a {}", p.describe(), I::Tag, defaultType, I::Tag);
-    return obj;
-}
+using camera::nestedOrDefault;
 
-class PerspectiveCamera final : public Implements<ICamera> {
+class PerspectiveCamera final : public Implements<ICamera, ICameraImportance> {
 public:
     static Schema schema() {
         Schema s("camera", "perspective", "Pinhole camera with a perspective projection (Mitsuba's `perspective`).");
         s.cite("M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §5.2");
-        s.real("fov", 39.3077, "Field of view along fov_axis, strictly between 0 and 180").range(0.0, 180.0).withUnit("deg");
-        s.string("fov_axis", "x", "Film axis the fov applies to: x, y, diagonal, or the smaller/larger of x and y")
-            .oneOf({"x", "y", "diagonal", "smaller", "larger"});
-        s.real("near_clip", 1e-2, "Near clip distance (> 0, < far_clip); rays start at the pinhole").atLeast(0.0).withUnit("scene units");
-        s.real("far_clip", 1e4, "Far clip distance (> near_clip); camera rays end there").atLeast(0.0).withUnit("scene units");
+        camera::addFovParams(s, 0.0);  // none: 50mm (diagonal), as Mitsuba 3
         s.transform("to_world", "Camera-to-world transform (lookat); rotation and translation only");
         s.real("principal_point_offset_x", 0.0, "Horizontal shift of the image centre, as a fraction of the film width")
             .withUnit("film widths");
         s.real("principal_point_offset_y", 0.0, "Vertical shift of the image centre, as a fraction of the film height")
             .withUnit("film heights");
-        s.child("film", "film", "Film the image is accumulated on (default: hdrfilm)");
-        s.child("sampler", "sampler", "Sample generator (default: independent)");
+        camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on the near plane");
+        // Mitsuba's sensors take these too; a pinhole camera of a static scene has no use for them.
+        s.ignored("focus_distance", "a pinhole camera keeps everything in focus (thinlens uses it)");
+        s.ignored("shutter_open", "no motion blur: scenes are static");
+        s.ignored("shutter_close", "no motion blur: scenes are static");
         return s;
     }
 
@@ -59,58 +53,19 @@ public:
         : m_toWorld(p.getTransform("to_world")),
           m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
           m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")) {
-        float fov = p.getFloat("fov");
-        if (!(fov > 0.f && fov < 180.f))
-            failAt(p.whereOf("fov"), "{}: parameter 'fov' = {} must lie strictly between 0 and 180 degrees",
-                   p.describe(), fov);
-        m_near = p.getFloat("near_clip");
-        m_far = p.getFloat("far_clip");
-        if (!(m_near > 0.f))
-            failAt(p.whereOf("near_clip"), "{}: parameter 'near_clip' must be positive", p.describe());
-        if (!(m_far > m_near))
-            failAt(p.whereOf("far_clip"), "{}: parameter 'far_clip' = {} must exceed near_clip = {}", p.describe(),
-                   m_far, m_near);
-        if (!m_toWorld.isFinite())
-            failAt(p.whereOf("to_world"), "{}: 'to_world' has non-finite entries", p.describe());
-        // tMax = far/cos θ is measured in camera units; a scaled transform would change
-        // distances (Mitsuba forbids it too). Mirrors are fine.
-        glm::mat3 linear(m_toWorld.matrix());
-        for (int c = 0; c < 3; ++c)
-            if (std::abs(length(linear[c]) - 1.f) > 1e-3f)
-                failAt(p.whereOf("to_world"), "{}: 'to_world' must not scale (use lookat, rotate, translate)",
-                       p.describe());
+        camera::readClip(p, m_near, m_far);
+        camera::requireRigid(p, m_toWorld);
         m_offset = Vector2f(p.getFloat("principal_point_offset_x"), p.getFloat("principal_point_offset_y"));
-
-        // The projection covers the whole film; a crop window only selects which part of
-        // it is rendered (the renderer adds cropOffset() to pFilm).
-        Vector2i size = m_film->fullSize();
-        if (size.x <= 0 || size.y <= 0)
-            failAt(p.where(), "{}: the film has an empty size {}x{}", p.describe(), size.x, size.y);
-        m_filmSize = Vector2f(size);
-        float aspect = m_filmSize.x / m_filmSize.y;
-
-        std::string axis = p.getString("fov_axis");
-        if (axis == "smaller") axis = aspect > 1.f ? "y" : "x";
-        if (axis == "larger") axis = aspect > 1.f ? "x" : "y";
-        float t = std::tan(0.5f * degToRad(fov));
-        // Half-extents of the image plane at unit distance.
-        if (axis == "x") {
-            m_tanHalf = Vector2f(t, t / aspect);
-        } else if (axis == "y") {
-            m_tanHalf = Vector2f(t * aspect, t);
-        } else {  // diagonal: t is the half-diagonal, split in the ratio W : H
-            float h = t / std::sqrt(1.f + aspect * aspect);
-            m_tanHalf = Vector2f(h * aspect, h);
-        }
+        m_filmSize = camera::filmSize(p, *m_film);
+        m_tanHalf = camera::imagePlaneHalfExtent(p, m_filmSize);
         m_origin = m_toWorld.point(Point3f(0.f));
+        m_toLocal = m_toWorld.inverse();
     }
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
         // Film position -> [0,1]² (x right, y down) -> image plane. Image right is camera
         // −x and image top is camera +y, hence the flips.
-        Point2f q = s.pFilm / m_filmSize + m_offset;
-        Vector3f local((1.f - 2.f * q.x) * m_tanHalf.x, (1.f - 2.f * q.y) * m_tanHalf.y, 1.f);
-        local = normalize(local);
+        Vector3f local = normalize(camera::imagePlanePoint(s.pFilm, m_filmSize, m_tanHalf, m_offset));
         // Rays start on the near plane and end on the far plane (Mitsuba's clipping).
         Ray ray;
         ray.d = normalize(m_toWorld.vector(local));
@@ -120,12 +75,34 @@ public:
         return ray;
     }
 
+    /// The inverse of generateRay's map (ICameraImportance): project ref onto the image
+    /// plane. Importance is uniform over the image plane z = 1 of area A, which as a
+    /// density per solid angle is 1 / (A cos³θ) (Veach 1997, §8.1; Mitsuba's importance()).
+    bool sampleDirection(const Point3f& ref, const Point2f&, CameraImportanceSample& out) const override {
+        out = CameraImportanceSample{};
+        Point3f local = m_toLocal.point(ref);
+        if (!(local.z >= m_near && local.z <= m_far)) return false;  // Mitsuba's clip test
+        Vector2f plane(local.x / local.z, local.y / local.z);
+        Point2f q = 0.5f * (Vector2f(1.f) - plane / m_tanHalf) - m_offset;
+        if (!(q.x >= 0.f && q.x <= 1.f && q.y >= 0.f && q.y <= 1.f)) return false;
+        float dist = length(Vector3f(local));
+        float cosTheta = local.z / dist;
+        float area = 4.f * m_tanHalf.x * m_tanHalf.y;
+        out.pFilm = q * m_filmSize;
+        out.pCamera = m_origin;
+        out.wi = (m_origin - ref) / dist;
+        out.dist = dist;
+        out.weight = 1.f / (area * cosTheta * cosTheta * cosTheta * dist * dist);
+        out.pdf = 1.f;
+        return std::isfinite(out.weight);
+    }
+
     const Transform& toWorld() const override { return m_toWorld; }
     IFilm& film() const override { return *m_film; }
     ISampler& sampler() const override { return *m_sampler; }
 
 private:
-    Transform m_toWorld;
+    Transform m_toWorld, m_toLocal;
     Ref<IFilm> m_film;
     Ref<ISampler> m_sampler;
     float m_near = 1e-2f, m_far = 1e4f;

@@ -37,6 +37,9 @@ public:
             .withUnit("W m^-2 sr^-1");
         EmissionScale::declare(s, "Scale a constant radiance to this luminance", "W m^-2 sr^-1",
                                "Scale a constant radiance so that the light emits the flux π · area · ∫L dλ");
+        // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
+        // rule, which changes noise only, never the expected image.
+        s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
         return s;
     }
 

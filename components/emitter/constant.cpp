@@ -32,6 +32,9 @@ public:
             .atLeast(0.0)
             .withUnit("W m^-2 sr^-1");
         EmissionScale::declare(s, "Scale the radiance to this luminance", "W m^-2 sr^-1", "");
+        // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
+        // rule, which changes noise only, never the expected image.
+        s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
         return s;
     }
 

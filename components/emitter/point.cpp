@@ -14,6 +14,7 @@
 //              Φ = 4π ∫ I dλ over 360–830 nm (excludes luminance)
 //
 // Reference: pbrt-v4 §12.1.1 (point lights).
+#include "delta_light.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/math/warp_functions.hpp"
@@ -36,6 +37,9 @@ public:
             .withUnit("W sr^-1");
         EmissionScale::declare(s, "Scale the intensity to this luminous intensity", "W sr^-1",
                                "Scale the intensity so that the light emits the flux 4π ∫I dλ");
+        // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
+        // rule, which changes noise only, never the expected image.
+        s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
         return s;
     }
 
@@ -60,29 +64,13 @@ public:
     std::uint32_t flags() const override { return EmitterDeltaPosition; }
 
     EmitterSample sampleDirect(const Point3f& ref, const Point2f&, const SampledWavelengths& lambda) const override {
-        EmitterSample es;
-        es.p = m_position;
-        Vector3f d = m_position - ref;
-        float dist2 = lengthSquared(d);
-        if (!(dist2 > 0.f) || !std::isfinite(dist2)) return es;  // at the light: undefined, pdf 0
-        es.dist = std::sqrt(dist2);
-        es.wi = d / es.dist;
-        es.n = -es.wi;
-        es.pdf = 1.f;
-        es.delta = true;
-        es.L = m_intensity.sample(lambda) / dist2;
-        return es;
+        return delta_light::sampleDirect(ref, m_position, [&](const Vector3f&) { return m_intensity.sample(lambda); });
     }
 
     EmissionSample sampleEmission(const Point2f&, const Point2f& uDir, const SampledWavelengths& lambda) const override {
-        EmissionSample es;
         Vector3f d = warp::squareToUniformSphere(uDir);
-        es.ray = Ray{m_position, d, Infinity};
-        es.n = d;
-        es.pdfPosition = 1.f;
-        es.pdfDirection = warp::squareToUniformSpherePdf(d);
-        es.L = m_intensity.sample(lambda);
-        return es;
+        return delta_light::emissionSample(m_position, d, Normal3f(d), warp::squareToUniformSpherePdf(d),
+                                           m_intensity.sample(lambda));
     }
 
     /// Φ = 4π · I.

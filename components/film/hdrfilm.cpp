@@ -81,6 +81,10 @@ public:
         s.string("component_format", "float16", "EXR channel type: float16 or float32").oneOf(ComponentFormats);
         s.string("file_format", "openexr", "Output file format").oneOf(FileFormats);
         s.boolean("png", true, "Also write an 8-bit sRGB PNG beside the EXR");
+        // Mitsuba's hdrfilm options without an effect here.
+        s.ignored("banner", "no banner is ever drawn into the image");
+        s.ignored("compensate", "no Kahan compensation: pixel sums are plain float sums");
+        s.ignored("sample_border", "no samples are taken beyond the film's edge");
         s.real("exposure", 0.0, "Exposure of the PNG (scale 2^exposure)").withUnit("stops").range(-64.0, 64.0);
         s.string("colorspace", "srgb", "RGB primaries of the EXR: srgb (Rec.709), rec2020 or acescg (AP1)")
             .oneOf(ColorSpaces);

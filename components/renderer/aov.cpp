@@ -1,13 +1,21 @@
-// renderer "aov" — arbitrary output variables: what the camera sees first, per pixel.
+// renderer "aov" — arbitrary output variables: what the camera sees first, per pixel,
+// optionally next to the images of nested renderers (Mitsuba 3's `aov`).
 //
-// Parameter `aovs`: a comma-separated list of "name:type" (Mitsuba 3's syntax), types
-// albedo (BSDF albedo as linear sRGB), sh_normal, geo_normal (world, unit), depth
-// (distance along the camera ray), position, uv. Each becomes channels "name.R/G/B",
-// "name.X/Y/Z", "name.U/V" or "name.Z" of the output EXR; pixels that see nothing are 0.
-// Used for denoiser inputs and to debug scenes (normals facing the wrong way, etc).
+// Parameter `aovs`: a comma-separated list of "name:type" (Mitsuba 3's syntax and
+// channel names): albedo (BSDF albedo as linear sRGB: name.R/G/B), depth (distance along
+// the camera ray: name.T), position, geo_normal, sh_normal, dp_du, dp_dv (world:
+// name.X/Y/Z), uv (name.U/V), prim_index (name.I). Pixels that see nothing are 0.
+// Nested renderers (nested <integrator> in Mitsuba; they must render single samples, see
+// ISampleRenderer): the first one's radiance is the colour image; each one `name` also
+// gets channels name.R/G/B (linear sRGB of its samples), name.A (1 where the camera ray
+// finds a surface or an environment) and name.<its own channels>, before the AOVs. A
+// child without a name attribute is called "_arg_<i>". Without nested renderers the
+// colour image is black, as in Mitsuba. Used for denoiser inputs and to debug scenes.
+// Reference: Mitsuba 3, src/integrators/aov.cpp (names, layout).
+#include "sampled_renderer.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
-#include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/irenderer.hpp"
 #include "effigi/render/tile_renderer.hpp"
 #include "effigi/spectral/cie.hpp"
@@ -19,26 +27,91 @@
 namespace effigi {
 namespace {
 
-enum class AovType { Albedo, ShNormal, GeoNormal, Depth, Position, UV };
+enum class AovType { Albedo, ShNormal, GeoNormal, Depth, Position, UV, DpDu, DpDv, PrimIndex };
 
-struct Aov {
+struct AovKind {
+    const char* name;
     AovType type;
-    int offset;  // first channel
+    std::vector<const char*> suffixes;  // channel name suffixes, Mitsuba's
 };
 
-class AovRenderer final : public Implements<IRenderer> {
+const std::vector<AovKind>& aovKinds() {
+    static const std::vector<AovKind> kinds = {
+        {"albedo", AovType::Albedo, {"R", "G", "B"}},
+        {"depth", AovType::Depth, {"T"}},
+        {"position", AovType::Position, {"X", "Y", "Z"}},
+        {"uv", AovType::UV, {"U", "V"}},
+        {"geo_normal", AovType::GeoNormal, {"X", "Y", "Z"}},
+        {"sh_normal", AovType::ShNormal, {"X", "Y", "Z"}},
+        {"dp_du", AovType::DpDu, {"X", "Y", "Z"}},
+        {"dp_dv", AovType::DpDv, {"X", "Y", "Z"}},
+        {"prim_index", AovType::PrimIndex, {"I"}}};
+    return kinds;
+}
+
+class AovRenderer final : public SampledRenderer {
 public:
     static Schema schema() {
         Schema s("renderer", "aov", "Arbitrary output variables (albedo, normals, depth, ...) of the first hit.");
         s.string("aovs", "albedo:albedo, nn:sh_normal, dd:depth",
-                 "Comma-separated name:type list; types albedo, sh_normal, geo_normal, depth, position, uv");
+                 "Comma-separated name:type list (Mitsuba requires it; effigi defaults to this); types "
+                 "albedo, depth, position, uv, geo_normal, sh_normal, dp_du, dp_dv, prim_index");
+        s.children("renderer", "Renderers whose images come first (nested <integrator> in Mitsuba)");
+        addIntegratorParam(s);
         return s;
     }
 
-    explicit AovRenderer(const Properties& p) {
-        static const std::vector<std::pair<std::string, AovType>> types = {
-            {"albedo", AovType::Albedo},  {"sh_normal", AovType::ShNormal}, {"geo_normal", AovType::GeoNormal},
-            {"depth", AovType::Depth},    {"position", AovType::Position},  {"uv", AovType::UV}};
+    explicit AovRenderer(const Properties& p) : SampledRenderer(p) {
+        for (NestedRenderer& n : nestedRenderers(p)) {
+            std::vector<std::string> own = n.renderer->sampleChannels();
+            for (const char* c : {".R", ".G", ".B", ".A"}) m_channels.push_back(n.name + c);
+            for (const std::string& c : own) m_channels.push_back(n.name + "." + c);
+            m_nested.push_back({n.renderer, own.size()});
+        }
+        parseAovs(p);
+        if (m_aovs.empty() && m_nested.empty())
+            failAt(p.whereOf("aovs"), "renderer 'aov': 'aovs' lists no outputs and no renderer is nested");
+        if (m_channels.size() > 256) failAt(p.whereOf("aovs"), "renderer 'aov': more than 256 channels");
+        // Albedo is shown as the colour it has under the sRGB white (normalised D65).
+        m_white = Spectrum::fromRGB(Vector3f(1.f), SpectrumKind::Illuminant);
+    }
+
+    std::vector<std::string> sampleChannels() const override { return m_channels; }
+
+    SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
+                                   ISampler& sampler, float* channels) const override {
+        SurfaceInteraction si;
+        const bool hit = scene.intersect(ray, si);
+        float* out = channels;
+        SampledSpectrum first(0.f);
+        SampledWavelengths firstLambda = lambda;
+        for (std::size_t i = 0; i < m_nested.size(); ++i) {
+            SampledWavelengths l = lambda;  // each nested renderer sees the wavelengths as drawn
+            SampledSpectrum L = m_nested[i].renderer->sampleRadiance(scene, ray, l, sampler, out + 4);
+            Vector3f rgb = xyzToLinearSRGB(cie::toXYZ(L, l));
+            out[0] = rgb.x, out[1] = rgb.y, out[2] = rgb.z;
+            out[3] = hit || !scene.environments().empty() ? 1.f : 0.f;
+            out += 4 + m_nested[i].channels;
+            if (i == 0) first = L, firstLambda = l;
+        }
+        lambda = firstLambda;
+        if (hit)
+            for (const Aov& a : m_aovs) writeAov(a, si, ray, lambda, out + a.offset);
+        return first;
+    }
+
+private:
+    struct Aov {
+        AovType type;
+        int offset;  // first channel, counted from the first AOV channel
+    };
+    struct Nested {
+        Ref<ISampleRenderer> renderer;
+        std::size_t channels;
+    };
+
+    void parseAovs(const Properties& p) {
+        const std::size_t first = m_channels.size();
         std::stringstream ss(p.getString("aovs"));
         std::string item;
         while (std::getline(ss, item, ',')) {
@@ -46,84 +119,45 @@ public:
             item.erase(item.find_last_not_of(" \t\n") + 1);
             if (item.empty()) continue;
             auto colon = item.find(':');
-            if (colon == std::string::npos || colon == 0)
+            if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
                 failAt(p.whereOf("aovs"), "renderer 'aov': entry '{}' of 'aovs' must be name:type", item);
             std::string name = item.substr(0, colon), type = item.substr(colon + 1);
-            auto it = std::find_if(types.begin(), types.end(), [&](auto& t) { return t.first == type; });
-            if (it == types.end()) {
+            const auto& kinds = aovKinds();
+            auto it = std::find_if(kinds.begin(), kinds.end(), [&](const AovKind& k) { return type == k.name; });
+            if (it == kinds.end()) {
                 std::vector<std::string> names;
-                for (auto& t : types) names.push_back(t.first);
+                for (const AovKind& k : kinds) names.push_back(k.name);
                 std::string hint = didYouMean(type, names);
                 failAt(p.whereOf("aovs"), "renderer 'aov': unknown AOV type '{}'{} (types: {})", type,
                        hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), fmt::join(names, ", "));
             }
-            static const char* rgb[] = {"R", "G", "B"};
-            static const char* xyz[] = {"X", "Y", "Z"};
-            static const char* uv[] = {"U", "V"};
-            m_aovs.push_back({it->second, int(m_channels.size())});
-            switch (it->second) {
-            case AovType::Albedo: for (auto c : rgb) m_channels.push_back(name + "." + c); break;
-            case AovType::Depth: m_channels.push_back(name + ".Z"); break;
-            case AovType::UV: for (auto c : uv) m_channels.push_back(name + "." + c); break;
-            default: for (auto c : xyz) m_channels.push_back(name + "." + c); break;
-            }
+            m_aovs.push_back({it->type, int(m_channels.size() - first)});
+            for (const char* c : it->suffixes) m_channels.push_back(name + "." + c);
         }
-        if (m_aovs.empty()) failAt(p.whereOf("aovs"), "renderer 'aov': 'aovs' lists no outputs");
-        if (m_channels.size() > MaxChannels)
-            failAt(p.whereOf("aovs"), "renderer 'aov': at most {} channels", MaxChannels);
-        // Albedo is shown as the colour it has under the sRGB white (normalised D65).
-        m_white = Spectrum::fromRGB(Vector3f(1.f), SpectrumKind::Illuminant);
     }
 
-    RenderStats render(const Scene& scene, const RenderControl& control) override {
-        const ICamera& camera = scene.camera();
-        Point2f offset(camera.film().cropOffset());
-        return renderTiles(scene, control, m_channels, "AOVs",
-                           [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
-                               TileStats& stats) {
-                               sampler.startPixel(px);
-                               for (std::uint64_t i = range.first; i < range.first + range.count; ++i) {
-                                   sampler.startSample(i);
-                                   samplePixel(scene, px, offset, sampler, block);
-                                   ++stats.samples;
-                               }
-                           });
-    }
-
-private:
-    static constexpr std::size_t MaxChannels = 32;
-
-    void samplePixel(const Scene& scene, Point2i px, Point2f offset, ISampler& sampler, ImageBlock& block) const {
-        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-        Point2f pFilm = Point2f(px) + sampler.getPixel2D();
-        SampledSpectrum weight(1.f);
-        Ray ray = scene.camera().generateRay({pFilm + offset, sampler.get2D(), 0.f}, lambda, weight);
-        float values[MaxChannels] = {};
-        SurfaceInteraction si;
-        if (scene.intersect(ray, si)) {
-            for (const Aov& a : m_aovs) {
-                float* v = values + a.offset;
-                switch (a.type) {
-                case AovType::Albedo: {
-                    if (!si.bsdf) break;
-                    SampledSpectrum rho = si.bsdf->albedo(si, lambda) * m_white.sample(lambda);
-                    Vector3f rgb = xyzToLinearSRGB(cie::toXYZ(rho, lambda));
-                    v[0] = rgb.x, v[1] = rgb.y, v[2] = rgb.z;
-                    break;
-                }
-                case AovType::ShNormal: v[0] = si.shading.n.x, v[1] = si.shading.n.y, v[2] = si.shading.n.z; break;
-                case AovType::GeoNormal: v[0] = si.n.x, v[1] = si.n.y, v[2] = si.n.z; break;
-                case AovType::Depth: v[0] = si.t * length(ray.d); break;
-                case AovType::Position: v[0] = si.p.x, v[1] = si.p.y, v[2] = si.p.z; break;
-                case AovType::UV: v[0] = si.uv.x, v[1] = si.uv.y; break;
-                }
-            }
+    void writeAov(const Aov& a, const SurfaceInteraction& si, const Ray& ray, const SampledWavelengths& lambda,
+                  float* v) const {
+        auto put3 = [v](const Vector3f& x) { v[0] = x.x, v[1] = x.y, v[2] = x.z; };
+        switch (a.type) {
+        case AovType::Albedo:
+            if (si.bsdf)
+                put3(xyzToLinearSRGB(cie::toXYZ(si.bsdf->albedo(si, lambda) * m_white.sample(lambda), lambda)));
+            break;
+        case AovType::ShNormal: put3(Vector3f(si.shading.n)); break;
+        case AovType::GeoNormal: put3(Vector3f(si.n)); break;
+        case AovType::Depth: v[0] = si.t * length(ray.d); break;
+        case AovType::Position: put3(Vector3f(si.p)); break;
+        case AovType::UV: v[0] = si.uv.x, v[1] = si.uv.y; break;
+        case AovType::DpDu: put3(si.dpdu); break;
+        case AovType::DpDv: put3(si.dpdv); break;
+        case AovType::PrimIndex: v[0] = float(si.prim); break;
         }
-        block.put(pFilm, values);
     }
 
+    std::vector<Nested> m_nested;
     std::vector<Aov> m_aovs;
-    std::vector<std::string> m_channels;
+    std::vector<std::string> m_channels;  // nested renderers' first, then the AOVs
     Spectrum m_white;
 };
 

@@ -7,7 +7,17 @@
 // heuristic (Veach & Guibas 1995), and is ended by Russian roulette after rr_depth.
 // Parameters: max_depth (longest path in segments, −1 = unbounded; 1 = emitters seen
 // directly, 2 = direct lighting — Mitsuba's convention), rr_depth, hide_emitters.
+// Pass-through surfaces (BSDFNull lobes: null, the transparent part of mask) are not
+// scattering events, as in Mitsuba 3's volpath: a null sample continues the ray straight
+// on without counting a segment or playing Russian roulette, and the emission found
+// beyond it is MIS-weighted with the density of the last real bounce (a null crossing
+// does not change the direction, so that density and its point stay valid); shadow rays
+// cross such surfaces weighted by evalNullTransmission (Scene::transmittance). Scenes
+// without them take the plain occlusion test.
 // Reference: Kajiya 1986, "The Rendering Equation"; Veach 1997, PhD thesis, ch. 9.
+#include "mis.hpp"
+#include "sampled_renderer.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/iemitter.hpp"
@@ -23,10 +33,7 @@
 namespace effigi {
 namespace {
 
-inline float powerHeuristic(float a, float b) {
-    float a2 = a * a, b2 = b * b;
-    return a2 + b2 > 0.f ? a2 / (a2 + b2) : 0.f;
-}
+using mis::powerHeuristic;
 
 class PathTracer {
 public:
@@ -40,6 +47,7 @@ public:
         float prevPdf = 1.f, etaScale = 1.f;
         Point3f prevP = ray.o;
         SurfaceInteraction si;
+        int nullCrossings = 0;
 
         for (int depth = 1;; ++depth) {  // depth = segments traced so far
             if (!m_scene.intersect(ray, si)) {
@@ -48,7 +56,7 @@ public:
                     if (depth == 1 && m_hideEmitters) continue;
                     float w = 1.f;
                     if (depth > 1 && !specular)
-                        w = powerHeuristic(prevPdf, m_scene.emitterProbability(env) * env->pdfEnvironment(prevP, ray.d));
+                        w = powerHeuristic(prevPdf, mis::environmentHitPdf(m_scene, *env, prevP, ray.d));
                     L += beta * Le * w;
                 }
                 break;
@@ -58,24 +66,35 @@ public:
                 if (!Le.isBlack()) {
                     float w = 1.f;
                     if (depth > 1 && !specular)
-                        w = powerHeuristic(prevPdf, m_scene.emitterProbability(si.emitter) *
-                                                        si.emitter->pdfDirect(prevP, si));
+                        w = powerHeuristic(prevPdf, mis::emitterHitPdf(m_scene, prevP, si));
                     L += beta * Le * w;
                 }
             }
-            if (depth >= m_maxDepth || !si.bsdf) break;
-
+            if (!si.bsdf) break;
             const IBSDF& bsdf = *si.bsdf;
+            // At the last segment only a pass-through may still go on.
+            const bool scatters = depth < m_maxDepth;
+            if (!scatters && !bsdf.hasNull()) break;
             Vector3f wo = si.toLocal(si.wo);
             // Always draw the light-sampling dimensions so every path uses the same layout.
             float uLight = sampler.get1D();
             Point2f uLight2 = sampler.get2D();
-            if (!bsdf.isPureSpecular()) L += beta * directLight(si, bsdf, wo, uLight, uLight2, lambda);
+            if (scatters && !bsdf.isPureSpecular()) L += beta * directLight(si, bsdf, wo, uLight, uLight2, lambda);
 
             float uc = sampler.get1D();
             Point2f u = sampler.get2D();
             std::optional<BSDFSample> bs = bsdf.sample(si, wo, uc, u, lambda, TransportMode::Radiance);
             if (!bs || bs->pdf <= 0.f || bs->f.isBlack()) break;
+            if (bs->flags & BSDFNull) {
+                // Straight on along the same line: not a bounce, so depth, the MIS state
+                // (prevPdf, prevP, specular) and Russian roulette are left as they were.
+                if (++nullCrossings > Scene::MaxNullCrossings) break;
+                beta *= bs->f * (std::abs(bs->wi.z) / bs->pdf);
+                ray = si.spawnRay(ray.d);
+                --depth;
+                continue;
+            }
+            if (!scatters) break;
             beta *= bs->f * (std::abs(bs->wi.z) / bs->pdf);
             specular = bs->isSpecular();
             prevPdf = bs->pdf;
@@ -97,19 +116,17 @@ public:
 private:
     SampledSpectrum directLight(const SurfaceInteraction& si, const IBSDF& bsdf, const Vector3f& wo, float uSel,
                                 const Point2f& u, const SampledWavelengths& lambda) const {
-        float selPdf;
-        const IEmitter* emitter = m_scene.sampleEmitter(uSel, selPdf);
-        if (!emitter) return SampledSpectrum(0.f);
-        EmitterSample es = emitter->sampleDirect(si.p, u, lambda);
-        if (es.pdf <= 0.f || es.L.isBlack()) return SampledSpectrum(0.f);
-        Vector3f wi = si.toLocal(es.wi);
-        SampledSpectrum f = bsdf.f(si, wo, wi, lambda, TransportMode::Radiance) * std::abs(wi.z);
-        if (f.isBlack()) return SampledSpectrum(0.f);
-        Ray shadow = std::isinf(es.dist) ? si.spawnRay(es.wi) : si.spawnRayTo(es.p);
-        if (m_scene.occluded(shadow)) return SampledSpectrum(0.f);
-        float lightPdf = selPdf * es.pdf;
-        float w = es.delta ? 1.f : powerHeuristic(lightPdf, bsdf.pdf(si, wo, wi, lambda, TransportMode::Radiance));
-        return f * es.L * (w / lightPdf);
+        std::optional<mis::LightSample> ls = mis::sampleLight(m_scene, si, bsdf, wo, uSel, u, lambda);
+        if (!ls) return SampledSpectrum(0.f);
+        SampledSpectrum f = ls->f;
+        if (m_scene.hasNullBSDFs()) {
+            f *= m_scene.transmittance(ls->shadow, lambda);
+            if (f.isBlack()) return SampledSpectrum(0.f);
+        } else if (m_scene.occluded(ls->shadow)) {
+            return SampledSpectrum(0.f);
+        }
+        float w = ls->es.delta ? 1.f : powerHeuristic(ls->pdf, bsdf.pdf(si, wo, ls->wi, lambda, TransportMode::Radiance));
+        return f * ls->es.L * (w / ls->pdf);
     }
 
     const Scene& m_scene;
@@ -117,54 +134,7 @@ private:
     bool m_hideEmitters;
 };
 
-/// One pixel's integrand in primary sample space: a film position, wavelengths and a
-/// path, splatted into the block as XYZ; its value for the integrator is the sample's
-/// linear RGB, so the integrator's variance is the pixel's per channel.
-class PixelIntegrand final : public Implements<IFunction> {
-public:
-    PixelIntegrand(const PathTracer& tracer, const ICamera& camera, Point2f filmOffset, const SpectralBinning& bins)
-        : m_tracer(tracer), m_camera(camera), m_filmOffset(filmOffset), m_bins(bins) {}
-
-    void reset(Point2i pixel, ImageBlock* block, TileStats* stats) {
-        m_pixel = pixel;
-        m_block = block;
-        m_stats = stats;
-    }
-    int dimension() const override { return 0; }
-    int channels() const override { return 3; }
-    void eval(ISampler& sampler, std::span<double> out) override {
-        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-        Point2f pFilm = Point2f(m_pixel) + sampler.getPixel2D();
-        CameraSample cs{pFilm + m_filmOffset, sampler.get2D(), 0.f};
-        SampledSpectrum weight(1.f);
-        Ray ray = m_camera.generateRay(cs, lambda, weight);
-        SampledSpectrum L = weight * m_tracer.li(ray, lambda, sampler);
-        Vector3f xyz = cie::toXYZ(L, lambda);
-        // X, Y, Z, then the film's spectral bins, if it records any (fixed size: no allocation).
-        float v[3 + SpectralBinning::MaxBins];
-        if (!isFinite(xyz) || !m_bins.estimate(L, lambda, v + 3)) {  // keep NaN/Inf off the film; counted
-            ++m_stats->rejected;
-            xyz = Vector3f(0.f);
-            std::fill(v + 3, v + 3 + m_bins.count(), 0.f);
-        }
-        v[0] = xyz.x, v[1] = xyz.y, v[2] = xyz.z;
-        ++m_stats->samples;
-        m_block->put(pFilm, v);
-        Vector3f rgb = xyzToLinearSRGB(xyz);
-        out[0] = rgb.x, out[1] = rgb.y, out[2] = rgb.z;
-    }
-
-private:
-    const PathTracer& m_tracer;
-    const ICamera& m_camera;
-    Point2f m_filmOffset;
-    const SpectralBinning& m_bins;
-    Point2i m_pixel{0};
-    ImageBlock* m_block = nullptr;
-    TileStats* m_stats = nullptr;
-};
-
-class PathRenderer final : public Implements<IRenderer> {
+class PathRenderer final : public SampledRenderer {
 public:
     static Schema schema() {
         Schema s("renderer", "path", "Unidirectional spectral path tracer with next-event estimation and MIS.");
@@ -172,74 +142,23 @@ public:
         s.integer("max_depth", -1, "Longest path in segments (-1: unbounded; 1: emitters only)").atLeast(-1);
         s.integer("rr_depth", 5, "Depth from which Russian roulette may end paths").atLeast(1);
         s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
-        s.child("integrator", "integrator", "Numerical integrator estimating each pixel (default: mean)");
+        addSchedulingParams(s);
         return s;
     }
 
     explicit PathRenderer(const Properties& p)
-        : m_maxDepth(int(p.getInt("max_depth"))), m_rrDepth(int(p.getInt("rr_depth"))),
-          m_hideEmitters(p.getBool("hide_emitters")), m_integrator(p.get<IIntegrator>("integrator")) {
-        if (!m_integrator) {
-            Properties ip("integrator", "mean");
-            m_integrator = query<IIntegrator>(Registry::instance().create("integrator", "mean", ip));
-        }
-    }
+        : SampledRenderer(p), m_maxDepth(int(p.getInt("max_depth"))), m_rrDepth(int(p.getInt("rr_depth"))),
+          m_hideEmitters(p.getBool("hide_emitters")) {}
 
-    RenderStats render(const Scene& scene, const RenderControl& control) override {
-        PathTracer tracer(scene, m_maxDepth, m_rrDepth, m_hideEmitters);
-        const ICamera& camera = scene.camera();
-        Point2f offset(camera.film().cropOffset());
-        const auto [lambdaMin, lambdaMax] = camera.film().spectralRange();
-        const SpectralBinning bins(camera.film().spectralBins(), lambdaMin, lambdaMax);
-        std::vector<std::string> channels{"X", "Y", "Z"};
-        for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
-        Vector2i size = camera.film().size();
-        if (!control.accumulate || m_pixels.size() != std::size_t(size.x) * size.y)
-            m_pixels.assign(std::size_t(size.x) * size.y, PixelEstimate{});
-        m_filterFactor = filterVarianceFactor(camera.film().filter());
-        return renderTiles(scene, control, channels, "Rendering",
-                           [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
-                               TileStats& stats) {
-                               PixelIntegrand f(tracer, camera, offset, bins);
-                               f.reset(px, &block, &stats);
-                               sampler.startPixel(px);
-                               Estimate e = m_integrator->integrate(f, sampler, range.first, range.count);
-                               m_pixels[std::size_t(px.y) * size.x + px.x].merge(e);
-                           });
-    }
-
-    bool varianceEstimate(std::vector<float>& variance) const override {
-        // The integrator's variance is that of the samples drawn for the pixel; the film
-        // pixel is a filtered average over neighbouring pixels' samples too.
-        variance.resize(3 * m_pixels.size());
-        for (std::size_t i = 0; i < m_pixels.size(); ++i)
-            for (int c = 0; c < 3; ++c) variance[3 * i + c] = float(m_pixels[i].variance[c] * m_filterFactor);
-        return !m_pixels.empty();
+    /// One camera sample (ISampleRenderer): what moment and aov nest.
+    SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
+                                   ISampler& sampler, float*) const override {
+        return PathTracer(scene, m_maxDepth, m_rrDepth, m_hideEmitters).li(ray, lambda, sampler);
     }
 
 private:
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
-    Ref<IIntegrator> m_integrator;
-
-    /// Each pixel's estimate pooled over the passes so far: the integrator's own error
-    /// estimate, which `effigi converge` and noise-target rendering read.
-    /// Compact per-pixel pooled estimate (28 bytes: a 4K film needs 230 MB as Estimates).
-    struct PixelEstimate {
-        float mean[3] = {0.f, 0.f, 0.f}, variance[3] = {0.f, 0.f, 0.f};
-        std::uint32_t samples = 0;
-        void merge(const Estimate& e) {
-            Estimate pooled;
-            pooled.channels = 3;
-            pooled.samples = samples;
-            for (int c = 0; c < 3; ++c) pooled.mean[c] = mean[c], pooled.variance[c] = variance[c];
-            pooled.merge(e);
-            for (int c = 0; c < 3; ++c) mean[c] = float(pooled.mean[c]), variance[c] = float(pooled.variance[c]);
-            samples = std::uint32_t(std::min<std::uint64_t>(pooled.samples, 0xffffffffu));
-        }
-    };
-    std::vector<PixelEstimate> m_pixels;  // written by disjoint pixels in parallel
-    double m_filterFactor = 1.0;
 };
 
 } // namespace

@@ -64,49 +64,21 @@ public:
 
     StratifiedSampler(const StratifiedSampler&) = default;
 
-    SamplerClaims claims() const override {
-        SamplerClaims c;
-        // Every 1D draw is a Latin hypercube, every 2D draw one point per grid cell.
-        c.stratification = StratifyLatinHypercube | StratifyJittered2D;
-        if (m_jitter) {  // without jitter the error is deterministic: no RMS rate to claim
-            c.smoothRate = -1.0;
-            c.discontinuousRate = -0.75;
-        }
-        return c;
-    }
+    /// Every 1D draw is a Latin hypercube, every 2D draw one point per grid cell; jittered
+    /// sampling's smooth rate is N^-1 in 2D (Mitchell 1996, above).
+    SamplerClaims claims() const override { return stratumClaims(m_jitter, -1.0); }
 
-    float get1D() override {
-        const std::uint64_t key = nextDimensionKey();
-        const std::uint32_t stratum = permutationElement(std::uint32_t(m_index % m_count), m_count, key);
-        return toUnit((double(stratum) + jitter(key, 0)) / double(m_count));
-    }
+    float get1D() override { return permutedStratum1D(m_jitter); }
 
     Point2f get2D() override {
-        const std::uint64_t key = nextDimensionKey();
-        const std::uint32_t stratum = permutationElement(std::uint32_t(m_index % m_count), m_count, key);
+        std::uint64_t key;
+        const std::uint32_t stratum = permutedStratum(key);
         const double res = double(m_resolution);
-        return {toUnit((double(stratum % m_resolution) + jitter(key, 1)) / res),
-                toUnit((double(stratum / m_resolution) + jitter(key, 2)) / res)};
+        return {toUnit((double(stratum % m_resolution) + jitterOffset(m_jitter, key, 1)) / res),
+                toUnit((double(stratum / m_resolution) + jitterOffset(m_jitter, key, 2)) / res)};
     }
 
 private:
-    /// Key of the next dimension of this pixel; rounds past sample_count get new keys so
-    /// that repeated rounds are not copies of the first.
-    std::uint64_t nextDimensionKey() {
-        const std::uint64_t round = m_index / m_count;
-        return mixBits(m_pixelHash ^ mixBits((std::uint64_t(m_dimension++) << 40) ^ round));
-    }
-
-    /// Offset in the stratum, one independent hash per (dimension, index, coordinate).
-    double jitter(std::uint64_t key, std::uint64_t coordinate) const {
-        if (!m_jitter) return 0.5;
-        std::uint64_t h = mixBits(key ^ mixBits(m_index * 3 + coordinate + 0x632be59bd9b4e019ull));
-        return double(h >> 11) * 0x1p-53;
-    }
-
-    /// Rounding to float may reach 1; keep values in [0, 1).
-    static float toUnit(double v) { return std::min(float(v), OneMinusEpsilon); }
-
     bool m_jitter;
     std::uint32_t m_resolution = 1;  // √n (m_count = √n²)
 };

@@ -80,6 +80,11 @@ public:
         si.t = hit.t;
         si.prim = 0;
         fillSurface(x, y, si.n, si.shading, si.uv);
+        // ∂p/∂u, ∂p/∂v of uv = (r, φ/2π) for bump maps; left zero at the centre.
+        if (double r = std::sqrt(x * x + y * y); r > 1e-7) {
+            si.dpdu = float(x / r) * m_ex + float(y / r) * m_ey;
+            si.dpdv = (2.f * Pi) * (float(-y) * m_ex + float(x) * m_ey);
+        }
         finish(si, ray);
         return si;
     }

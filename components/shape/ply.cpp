@@ -2,7 +2,8 @@
 // order) by effigi's own reader.
 //
 // Parameters: filename (relative to the scene file), face_normals (ignore the file's
-// vertex normals), flip_normals, to_world, nested bsdf and emitter.
+// vertex normals), flip_tex_coords (v -> 1 - v; default false, as in Mitsuba),
+// flip_normals, to_world, nested bsdf and emitter.
 // Vertex properties x y z, optional nx ny nz and u v (or s t, texture_u texture_v);
 // faces from the list vertex_indices (or vertex_index), polygons fan-triangulated;
 // other elements and properties are skipped.
@@ -20,13 +21,17 @@ public:
         Schema s("shape", "ply", "Triangle mesh from a Stanford PLY file (ascii, binary little/big endian).");
         s.cite("G. Turk, The PLY Polygon File Format, 1994");
         s.optional("filename", ParamType::String, "PLY file, relative to the scene file").isRequired();
+        s.boolean("flip_tex_coords", false, "Flip the v texture coordinate (v -> 1 - v); off by default, as in Mitsuba");
         addMeshParams(s);
         return s;
     }
 
     explicit Ply(const Properties& p) : MeshShape(p) {
         std::string file = p.getPath("filename").string();
-        setMesh(readPly(file), file);
+        TriangleMesh mesh = readPly(file);
+        if (p.getBool("flip_tex_coords"))
+            for (Point2f& uv : mesh.uvs) uv.y = 1.f - uv.y;
+        setMesh(std::move(mesh), file);
     }
 };
 

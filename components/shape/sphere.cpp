@@ -85,6 +85,13 @@ public:
         si.t = hit.t;
         si.prim = 0;
         fillSurface(w, si.n, si.shading, si.uv);
+        // ∂p/∂u, ∂p/∂v of uv = (φ/2π, θ/π) for bump maps; left zero at the poles.
+        Vector3f q = glm::transpose(m_rotation) * w;
+        float sinTheta = std::sqrt(q.x * q.x + q.y * q.y);
+        if (sinTheta > 1e-6f) {
+            si.dpdu = m_rotation * Vector3f(-q.y, q.x, 0.f) * (2.f * Pi * m_radius);
+            si.dpdv = m_rotation * Vector3f(q.z * q.x / sinTheta, q.z * q.y / sinTheta, -sinTheta) * (Pi * m_radius);
+        }
         finish(si, ray);
         return si;
     }

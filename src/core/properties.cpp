@@ -115,8 +115,14 @@ Transform Properties::getTransform(const std::string& name) const {
 
 Spectrum Properties::getSpectrum(const std::string& name, SpectrumKind kind) const {
     const Entry& e = require(name);
-    if (auto* d = std::get_if<double>(&e.value)) return Spectrum(float(*d));
-    if (auto* i = std::get_if<std::int64_t>(&e.value)) return Spectrum(float(*i));
+    // A bare number given for an emission is a grey of the colour space, i.e. a scaled
+    // D65, as Mitsuba 3's spectral variants read <float> radiance/intensity/irradiance
+    // (a <spectrum value="v"/> stays flat, as there).
+    auto number = [&](float v) {
+        return kind == SpectrumKind::Illuminant ? Spectrum::fromRGB(Vector3f(v), kind) : Spectrum(v);
+    };
+    if (auto* d = std::get_if<double>(&e.value)) return number(float(*d));
+    if (auto* i = std::get_if<std::int64_t>(&e.value)) return number(float(*i));
     if (auto* c = std::get_if<RGBValue>(&e.value)) return Spectrum::fromRGB(c->v, kind);
     if (auto* s = std::get_if<SpectrumValue>(&e.value)) {
         Spectrum r;

@@ -1,5 +1,10 @@
 #include "effigi/core/schema.hpp"
 
+#include "effigi/core/log.hpp"
+
+#include <mutex>
+#include <set>
+
 #include <cmath>
 
 namespace effigi {
@@ -87,6 +92,12 @@ ParamSpec& Schema::children(const std::string& tag, std::string doc) {
     ParamSpec& p = add(makeSpec(tag + "[]", ParamType::Component, std::nullopt, std::move(doc)));
     p.componentTag = tag;
     p.multiple = true;
+    return p;
+}
+
+ParamSpec& Schema::ignored(const std::string& name, std::string doc) {
+    ParamSpec& p = add(makeSpec(name, ParamType::String, std::nullopt, std::move(doc)));
+    p.ignored = true;
     return p;
 }
 
@@ -189,11 +200,31 @@ void Schema::validate(Properties& props) const {
             continue;
         }
         const ParamSpec* spec = find(e.name);
+        // A nested object whose name is no parameter joins a children(tag) list of its tag
+        // under that name: Mitsuba lets such children (bumpmap's height texture) carry any name.
+        if (auto* c = std::get_if<ComponentValue>(&e.value); c && !spec) {
+            bool listed = std::any_of(m_params.begin(), m_params.end(), [&](const ParamSpec& p) {
+                return p.multiple && p.type == ParamType::Component && p.componentTag == c->tag;
+            });
+            if (listed) continue;
+        }
         if (!spec || spec->multiple) {
             std::string hint = didYouMean(e.name, names);
             failAt(e.where, "{} has no parameter '{}'{}", props.describe(), e.name,
                    hint.empty() ? fmt::format(" (parameters: {})", fmt::join(names, ", "))
                                 : fmt::format(" (did you mean '{}'?)", hint));
+        }
+        if (spec->ignored) {
+            // Mitsuba's plugin takes it; this one does not use it. Said once per
+            // component and parameter, at -v.
+            static std::mutex mutex;
+            static std::set<std::string> said;
+            std::string key = props.tag() + "/" + props.type() + "/" + e.name;
+            std::lock_guard lock(mutex);
+            if (said.insert(key).second)
+                log::info("{}: {}: parameter '{}' accepted but ignored ({})", e.where.str(), props.describe(), e.name,
+                          spec->doc);
+            continue;
         }
         if (!accepts(*spec, e.value))
             failAt(e.where, "{}: parameter '{}' must be {}, got {}", props.describe(), e.name, expectedText(*spec),

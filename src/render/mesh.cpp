@@ -55,6 +55,12 @@ void TriangleMesh::validate(const std::string& what) const {
         if (!isFinite(normals[i])) fail("{}: vertex {} has a non-finite normal", what, i);
     for (std::size_t i = 0; i < uvs.size(); ++i)
         if (!finite2(uvs[i])) fail("{}: vertex {} has non-finite texture coordinates", what, i);
+    for (const MeshAttribute& a : attributes) {
+        std::size_t n = a.perFace ? triangleCount() : positions.size();
+        if (a.data.size() != n * std::size_t(a.channels))
+            fail("{}: attribute '{}' has {} values for {} {}s of {} channels", what, a.name, a.data.size(), n,
+                 a.perFace ? "face" : "vertex", a.channels);
+    }
     for (std::size_t i = 0; i < indices.size(); ++i)
         if (indices[i] >= positions.size())
             fail("{}: triangle {} uses vertex index {}, out of range (mesh has {} vertices)", what, i / 3,

@@ -1,8 +1,12 @@
 // Stanford PLY reader (Turk 1994). The header declares elements, each a count of
 // records made of typed scalar or list properties; the body stores them in order,
 // either as whitespace-separated ascii or packed binary of either byte order. We keep
-// vertex positions, normals and uvs and the faces' index lists, and step over the rest.
+// vertex positions, normals and uvs, the faces' index lists, and per-vertex / per-face
+// attributes named as Mitsuba 3's PLY loader names them (ply_attributes.cpp); the rest is
+// stepped over. The header is parsed by ply_header.cpp.
 #include "effigi/render/ply_reader.hpp"
+
+#include "ply_format.hpp"
 
 #include "effigi/core/error.hpp"
 #include "effigi/core/log.hpp"
@@ -19,74 +23,20 @@
 namespace effigi {
 namespace {
 
-enum class Type { I8, U8, I16, U16, I32, U32, I64, U64, F32, F64 };
-enum class Format { Ascii, BinaryLE, BinaryBE };
-
-bool parseType(std::string_view s, Type& t) {
-    struct Name { const char* name; Type type; };
-    static const Name names[] = {
-        {"char", Type::I8},    {"int8", Type::I8},     {"uchar", Type::U8},     {"uint8", Type::U8},
-        {"short", Type::I16},  {"int16", Type::I16},   {"ushort", Type::U16},   {"uint16", Type::U16},
-        {"int", Type::I32},    {"int32", Type::I32},   {"uint", Type::U32},     {"uint32", Type::U32},
-        {"int64", Type::I64},  {"uint64", Type::U64},  {"float", Type::F32},    {"float32", Type::F32},
-        {"double", Type::F64}, {"float64", Type::F64},
-    };
-    for (const Name& n : names)
-        if (s == n.name) return (t = n.type, true);
-    return false;
-}
-
-std::size_t typeSize(Type t) {
-    switch (t) {
-    case Type::I8: case Type::U8: return 1;
-    case Type::I16: case Type::U16: return 2;
-    case Type::I32: case Type::U32: case Type::F32: return 4;
-    default: return 8;
-    }
-}
-
-struct Property {
-    std::string name;
-    Type type = Type::F32;
-    bool list = false;
-    Type countType = Type::U8;
-};
-
-struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::vector<Property> props;
-    int line = 0;  // header line declaring it
-};
-
-/// Header words split on blanks.
-std::vector<std::string_view> words(std::string_view line) {
-    std::vector<std::string_view> w;
-    std::size_t i = 0;
-    while (i < line.size()) {
-        while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-        std::size_t j = i;
-        while (j < line.size() && line[j] != ' ' && line[j] != '\t') ++j;
-        if (j > i) w.push_back(line.substr(i, j - i));
-        i = j;
-    }
-    return w;
-}
-
-/// A token fit for a one-line message: printable, short.
-std::string printable(std::string_view s) {
-    std::string r;
-    for (char c : s.substr(0, 24)) r += (c >= 0x20 && c < 0x7f) ? c : '?';
-    if (s.size() > 24) r += "...";
-    return r;
-}
+using namespace ply;
 
 class PlyParser {
 public:
     PlyParser(std::string_view data, std::string name) : m_data(data), m_name(std::move(name)) {}
 
     TriangleMesh read() {
-        parseHeader();
+        Header header = parseHeader(m_data, m_name);
+        m_format = header.format;
+        m_elements = std::move(header.elements);
+        m_pos = header.bodyPos;
+        m_line = header.bodyLine;
+        bool bigEndianHost = std::endian::native == std::endian::big;
+        m_swap = (m_format == Format::BinaryLE && bigEndianHost) || (m_format == Format::BinaryBE && !bigEndianHost);
         for (const Element& e : m_elements) {
             if (e.name == "vertex") readVertices(e);
             else if (e.name == "face") readFaces(e);
@@ -104,73 +54,6 @@ private:
     }
     /// Line for body errors: known for ascii only.
     int dataLine() const { return m_format == Format::Ascii ? m_line : 0; }
-
-    // ---- header --------------------------------------------------------------------
-    bool nextHeaderLine(std::string_view& out) {
-        if (m_pos >= m_data.size()) return false;
-        std::size_t nl = m_data.find('\n', m_pos);
-        std::size_t end = nl == std::string_view::npos ? m_data.size() : nl;
-        out = m_data.substr(m_pos, end - m_pos);
-        if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
-        m_pos = nl == std::string_view::npos ? m_data.size() : nl + 1;
-        ++m_line;
-        return true;
-    }
-
-    void parseHeader() {
-        std::string_view line;
-        if (!nextHeaderLine(line) || words(line).size() != 1 || words(line)[0] != "ply")
-            error(1, "not a PLY file (the first line must be 'ply')");
-        bool haveFormat = false;
-        for (;;) {
-            if (!nextHeaderLine(line)) error(m_line, "PLY header ends without 'end_header'");
-            auto w = words(line);
-            if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
-            if (w[0] == "end_header") break;
-            if (w[0] == "format") {
-                if (w.size() != 3) error(m_line, "malformed PLY format line '{}'", printable(line));
-                if (w[1] == "ascii") m_format = Format::Ascii;
-                else if (w[1] == "binary_little_endian") m_format = Format::BinaryLE;
-                else if (w[1] == "binary_big_endian") m_format = Format::BinaryBE;
-                else error(m_line, "unsupported PLY format '{}' (expected ascii, binary_little_endian "
-                                   "or binary_big_endian)", printable(w[1]));
-                if (w[2] != "1.0" && w[2] != "1") error(m_line, "unsupported PLY version '{}'", printable(w[2]));
-                haveFormat = true;
-            } else if (w[0] == "element") {
-                Element e;
-                if (w.size() != 3) error(m_line, "malformed PLY element line '{}'", printable(line));
-                e.name = std::string(w[1]);
-                auto [ptr, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
-                if (ec != std::errc() || ptr != w[2].data() + w[2].size())
-                    error(m_line, "PLY element '{}' has an invalid count '{}'", e.name, printable(w[2]));
-                e.line = m_line;
-                for (const Element& o : m_elements)
-                    if (o.name == e.name) error(m_line, "PLY element '{}' declared twice", e.name);
-                m_elements.push_back(std::move(e));
-            } else if (w[0] == "property") {
-                if (m_elements.empty()) error(m_line, "PLY property declared before any element");
-                Property p;
-                bool ok;
-                if (w.size() >= 2 && w[1] == "list") {
-                    ok = w.size() == 5 && parseType(w[2], p.countType) && parseType(w[3], p.type);
-                    p.list = true;
-                    if (ok && (p.countType == Type::F32 || p.countType == Type::F64))
-                        error(m_line, "PLY list count type must be an integer type");
-                } else {
-                    ok = w.size() == 3 && parseType(w[1], p.type);
-                }
-                if (!ok) error(m_line, "malformed PLY property line '{}'", printable(line));
-                p.name = std::string(w.back());
-                m_elements.back().props.push_back(std::move(p));
-            } else {
-                error(m_line, "unknown PLY header keyword '{}'", printable(w[0]));
-            }
-        }
-        if (!haveFormat) error(m_line, "PLY header has no 'format' line");
-        ++m_line;  // the body starts on the line after end_header
-        bool bigEndianHost = std::endian::native == std::endian::big;
-        m_swap = (m_format == Format::BinaryLE && bigEndianHost) || (m_format == Format::BinaryBE && !bigEndianHost);
-    }
 
     // ---- body values ---------------------------------------------------------------
     [[noreturn]] void truncated(const Element& e, std::uint64_t i) const {
@@ -243,6 +126,36 @@ private:
             if (!value(p.type, dummy)) truncated(e, i);
     }
 
+    // ---- attributes ----------------------------------------------------------------
+    /// Where each property's value goes: (attribute, channel) or none.
+    struct AttrSlots {
+        std::vector<int> attr, channel;
+    };
+    AttrSlots addAttributes(const Element& e, const std::vector<AttrGroup>& groups, bool perFace) {
+        AttrSlots s{std::vector<int>(e.props.size(), -1), std::vector<int>(e.props.size(), 0)};
+        for (const AttrGroup& g : groups) {
+            for (std::size_t c = 0; c < g.props.size(); ++c) {
+                s.attr[g.props[c]] = int(m_mesh.attributes.size());
+                s.channel[g.props[c]] = int(c);
+            }
+            m_mesh.attributes.push_back({g.name, int(g.props.size()), perFace, {}});
+        }
+        return s;
+    }
+    /// Store one attribute value read for property k.
+    void storeAttribute(const Element& e, const AttrSlots& s, std::size_t k, double v, std::vector<float>& record) {
+        if (isInteger(e.props[k].type)) v = normalizedInteger(e.props[k].type, v);
+        record[std::size_t(s.attr[k]) * 4 + std::size_t(s.channel[k])] = float(v);
+    }
+    /// Append one record's attribute values (record holds 4 slots per attribute).
+    void appendRecord(std::size_t first, const std::vector<float>& record, std::size_t times = 1) {
+        for (std::size_t a = first; a < m_mesh.attributes.size(); ++a) {
+            MeshAttribute& m = m_mesh.attributes[a];
+            for (std::size_t t = 0; t < times; ++t)
+                for (int c = 0; c < m.channels; ++c) m.data.push_back(record[a * 4 + std::size_t(c)]);
+        }
+    }
+
     // ---- elements ------------------------------------------------------------------
     void skipElement(const Element& e) {
         bool fixed = m_format != Format::Ascii;
@@ -278,6 +191,11 @@ private:
         if (!have[0] || !have[1] || !have[2])
             error(e.line, "PLY vertex element lacks one of the properties x, y, z");
         bool normals = have[3] && have[4] && have[5], uvs = have[6] && have[7];
+        std::vector<bool> taken(e.props.size());
+        for (std::size_t k = 0; k < e.props.size(); ++k) taken[k] = slot[k] >= 0;
+        const std::size_t firstAttr = m_mesh.attributes.size();
+        AttrSlots attrs = addAttributes(e, attributeGroups(e, "vertex_", taken, m_name), false);
+        std::vector<float> record(m_mesh.attributes.size() * 4, 0.f);
 
         // Reserve no more than the data could hold: the count is untrusted.
         std::size_t cap = std::size_t(std::min<std::uint64_t>(e.count, m_data.size() - m_pos));
@@ -287,12 +205,17 @@ private:
         for (std::uint64_t i = 0; i < e.count; ++i) {
             double v[8] = {};
             for (std::size_t k = 0; k < e.props.size(); ++k) {
-                if (slot[k] < 0) {
+                if (attrs.attr[k] >= 0) {
+                    double a = 0.0;
+                    if (!value(e.props[k].type, a)) truncated(e, i);
+                    storeAttribute(e, attrs, k, a, record);
+                } else if (slot[k] < 0) {
                     skip(e, i, e.props[k]);
                 } else if (!value(e.props[k].type, v[slot[k]])) {
                     truncated(e, i);
                 }
             }
+            appendRecord(firstAttr, record);
             m_mesh.positions.emplace_back(float(v[0]), float(v[1]), float(v[2]));
             if (normals) m_mesh.normals.emplace_back(float(v[3]), float(v[4]), float(v[5]));
             if (uvs) m_mesh.uvs.emplace_back(float(v[6]), float(v[7]));
@@ -313,11 +236,24 @@ private:
         for (const Element& o : m_elements)
             if (o.name == "vertex") nv = o.count;
 
+        std::vector<bool> taken(e.props.size());
+        taken[std::size_t(which)] = true;
+        const std::size_t firstAttr = m_mesh.attributes.size();
+        AttrSlots attrs = addAttributes(e, attributeGroups(e, "face_", taken, m_name), true);
+        std::vector<float> record(m_mesh.attributes.size() * 4, 0.f);
+
         std::vector<std::uint32_t> poly;
         m_mesh.indices.reserve(std::size_t(std::min<std::uint64_t>(3 * e.count, m_data.size() - m_pos)));
         for (std::uint64_t i = 0; i < e.count; ++i) {
+            std::size_t trianglesBefore = m_mesh.indices.size() / 3;
             for (std::size_t k = 0; k < e.props.size(); ++k) {
                 const Property& p = e.props[k];
+                if (attrs.attr[k] >= 0) {
+                    double a = 0.0;
+                    if (!value(p.type, a)) truncated(e, i);
+                    storeAttribute(e, attrs, k, a, record);
+                    continue;
+                }
                 if (int(k) != which) {
                     skip(e, i, p);
                     continue;
@@ -343,6 +279,8 @@ private:
                     m_mesh.indices.push_back(poly[j + 1]);
                 }
             }
+            // A face attribute belongs to every triangle of its fan (none if skipped).
+            appendRecord(firstAttr, record, m_mesh.indices.size() / 3 - trianglesBefore);
         }
     }
 

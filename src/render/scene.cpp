@@ -1,6 +1,9 @@
 #include "effigi/render/scene.hpp"
 
+#include <algorithm>
+
 #include "effigi/core/error.hpp"
+#include "effigi/interfaces/ibsdf.hpp"
 
 namespace effigi {
 
@@ -16,7 +19,14 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
         m_shapePtrs.push_back(s.get());
         m_bbox.expand(s->bbox());
         if (const IEmitter* e = s->emitter()) m_emitterPtrs.push_back(e);
+        if (const IBSDF* b = s->bsdf(); b && b->hasNull()) m_hasNull = true;
     }
+    // A top-level emitter that a shape references (Mitsuba's <emitter id="x"/> ... <ref
+    // id="x"/> inside a shape) is that shape's emitter: listing it twice would double its
+    // selection probability and break the MIS weights.
+    std::erase_if(m_emitters, [&](const Ref<IEmitter>& e) {
+        return std::find(m_emitterPtrs.begin(), m_emitterPtrs.end(), e.get()) != m_emitterPtrs.end();
+    });
     for (const auto& e : m_emitters) {
         m_emitterPtrs.push_back(e.get());
         if (e->isInfinite()) m_envPtrs.push_back(e.get());
@@ -28,6 +38,23 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
     for (auto& e : m_emitters) e->preprocess(bounds);
 
     m_accel->build(m_shapePtrs);
+}
+
+SampledSpectrum Scene::transmittance(Ray ray, const SampledWavelengths& lambda) const {
+    SampledSpectrum T(1.f);
+    SurfaceInteraction si;
+    for (int crossing = 0; crossing < MaxNullCrossings; ++crossing) {
+        if (!intersect(ray, si)) return T;
+        if (!si.bsdf || !si.bsdf->hasNull()) return SampledSpectrum(0.f);
+        T *= si.bsdf->evalNullTransmission(si, lambda);
+        if (T.isBlack()) return T;
+        // On along the same line from just beyond the surface; the parameter left shrinks
+        // by the distance covered (d is the same vector, so t values carry over).
+        Ray next{offsetRayOrigin(si.p, si.n, ray.d), ray.d, ray.tMax - si.t};
+        if (!(next.tMax > 0.f)) return T;
+        ray = next;
+    }
+    return SampledSpectrum(0.f);
 }
 
 } // namespace effigi

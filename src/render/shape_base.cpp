@@ -54,6 +54,41 @@ MeshShape::MeshShape(const Properties& props) : ShapeBase(props) {
     if (props.has("face_normals")) m_faceNormals = props.getBool("face_normals");
 }
 
+namespace {
+
+/// Smooth vertex normals for a mesh that has none: each triangle adds its unit normal
+/// weighted by its angle at the vertex (Thürmer & Wüthrich 1998, "Computing vertex
+/// normals from polygonal facets"), which does not depend on how a face is split into
+/// triangles. Mitsuba 3 does the same for meshes without normals (unless face_normals).
+void computeVertexNormals(TriangleMesh& m) {
+    std::vector<Vector3d> acc(m.positions.size(), Vector3d(0.0));
+    for (std::size_t i = 0; i < m.triangleCount(); ++i) {
+        const std::uint32_t* idx = &m.indices[3 * i];
+        Vector3d p[3];
+        for (int k = 0; k < 3; ++k) p[k] = Vector3d(m.positions[idx[k]]);
+        Vector3d n = glm::cross(p[1] - p[0], p[2] - p[0]);
+        double len = glm::length(n);
+        if (!(len > 0.0)) continue;
+        n /= len;
+        for (int k = 0; k < 3; ++k) {
+            Vector3d e1 = p[(k + 1) % 3] - p[k], e2 = p[(k + 2) % 3] - p[k];
+            double l1 = glm::length(e1), l2 = glm::length(e2);
+            if (!(l1 > 0.0 && l2 > 0.0)) continue;
+            double angle = std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+            acc[idx[k]] += angle * n;
+        }
+    }
+    m.normals.resize(m.positions.size());
+    for (std::size_t v = 0; v < acc.size(); ++v) {
+        double len = glm::length(acc[v]);
+        // A vertex of degenerate triangles only: zero, and interaction() falls back to
+        // the face normal there.
+        m.normals[v] = len > 0.0 ? Normal3f(acc[v] / len) : Normal3f(0.f);
+    }
+}
+
+} // namespace
+
 void MeshShape::setMesh(TriangleMesh mesh, const std::string& what) {
     mesh.validate(what);
     if (mesh.triangleCount() == 0) fail("{}: mesh has no triangles", what);
@@ -61,6 +96,7 @@ void MeshShape::setMesh(TriangleMesh mesh, const std::string& what) {
     mesh.transform(m_toWorld);
     mesh.validate(what);  // a non-finite or huge to_world shows up here
     if (m_flipNormals) mesh.flip();
+    if (!m_faceNormals && mesh.normals.empty()) computeVertexNormals(mesh);
     m_mesh = std::move(mesh);
 
     // Cumulative areas summed in double so that a million small triangles do not drift.
@@ -88,6 +124,7 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
     si.p = b0 * p0 + b1 * p1 + b2 * p2;
     si.t = hit.t;
     si.prim = hit.prim;
+    si.primUV = hit.uv;
     Vector3f ng = cross(p1 - p0, p2 - p0);
     float ng2 = dot(ng, ng);
     si.n = ng2 > 0.f ? ng / std::sqrt(ng2) : Normal3f(0.f, 0.f, 1.f);
@@ -108,9 +145,15 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
         // dp/du from the two edge equations dp_i2 = du_i2 dp/du + dv_i2 dp/dv (pbrt §6.5.3).
         Vector2f d02 = t0 - t2, d12 = t1 - t2;
         float det = d02.x * d12.y - d02.y * d12.x;
-        if (std::abs(det) > 1e-12f) s = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det;
+        if (std::abs(det) > 1e-12f) {
+            s = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det;
+            si.dpdu = s;
+            si.dpdv = (d02.x * (p1 - p2) - d12.x * (p0 - p2)) / det;
+        }
     } else {
         si.uv = Point2f(b1, b2);
+        si.dpdu = p1 - p0;
+        si.dpdv = p2 - p0;
     }
     // Gram-Schmidt against the shading normal; fall back to an arbitrary tangent.
     s -= ns * dot(ns, s);

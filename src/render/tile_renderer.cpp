@@ -1,6 +1,12 @@
 #include "effigi/render/tile_renderer.hpp"
 
 #include "effigi/core/progress.hpp"
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/ifunction.hpp"
+#include "effigi/render/image_metrics.hpp"
+#include "effigi/render/spectral_bins.hpp"
+#include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/colorspace.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
@@ -72,6 +78,128 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats.interrupted = interrupted || control.stopRequested();
     return stats;
+}
+
+void PixelVariance::prepare(const IFilm& film, bool accumulate) {
+    Vector2i size = film.size();
+    if (!accumulate || m_pixels.size() != std::size_t(size.x) * size.y)
+        m_pixels.assign(std::size_t(size.x) * size.y, Pixel{});
+    m_width = size.x;
+    m_filterFactor = filterVarianceFactor(film.filter());
+}
+
+void PixelVariance::merge(const Point2i& px, const Estimate& e) {
+    Pixel& p = m_pixels[std::size_t(px.y) * m_width + px.x];
+    Estimate pooled;
+    pooled.channels = 3;
+    pooled.samples = p.samples;
+    for (int c = 0; c < 3; ++c) pooled.mean[c] = p.mean[c], pooled.variance[c] = p.variance[c];
+    pooled.merge(e);
+    for (int c = 0; c < 3; ++c) p.mean[c] = float(pooled.mean[c]), p.variance[c] = float(pooled.variance[c]);
+    p.samples = std::uint32_t(std::min<std::uint64_t>(pooled.samples, 0xffffffffu));
+}
+
+bool PixelVariance::get(std::vector<float>& variance) const {
+    // The integrator's variance is that of the samples drawn for the pixel; the film
+    // pixel is a filtered average over neighbouring pixels' samples too.
+    variance.resize(3 * m_pixels.size());
+    for (std::size_t i = 0; i < m_pixels.size(); ++i)
+        for (int c = 0; c < 3; ++c) variance[3 * i + c] = float(m_pixels[i].variance[c] * m_filterFactor);
+    return !m_pixels.empty();
+}
+
+namespace {
+
+/// One pixel's integrand in primary sample space (see renderSampled). The splat buffer is
+/// the integrand's, allocated once per pixel, not per sample.
+class SampledIntegrand final : public Implements<IFunction> {
+public:
+    SampledIntegrand(const Scene& scene, const ISampleRenderer& renderer, const SpectralBinning& bins,
+                     std::size_t extra, Point2i pixel, ImageBlock& block, TileStats& stats)
+        : m_scene(scene), m_renderer(renderer), m_bins(bins), m_values(3 + bins.count() + extra), m_pixel(pixel),
+          m_block(block), m_stats(stats), m_offset(scene.camera().film().cropOffset()) {}
+
+    int dimension() const override { return 0; }
+    int channels() const override { return 3; }
+    void eval(ISampler& sampler, std::span<double> out) override {
+        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
+        Point2f pFilm = Point2f(m_pixel) + sampler.getPixel2D();
+        SampledSpectrum weight(1.f);
+        Ray ray = m_scene.camera().generateRay({pFilm + m_offset, sampler.get2D(), 0.f}, lambda, weight);
+        float* v = m_values.data();
+        float* extra = v + 3 + m_bins.count();
+        std::fill(m_values.begin(), m_values.end(), 0.f);
+        SampledSpectrum L = weight * m_renderer.sampleRadiance(m_scene, ray, lambda, sampler, extra);
+        Vector3f xyz = cie::toXYZ(L, lambda);
+        bool finite = isFinite(xyz) && m_bins.estimate(L, lambda, v + 3);
+        for (float* c = extra; finite && c != v + m_values.size(); ++c) finite = std::isfinite(*c);
+        if (!finite) {  // keep NaN/Inf off the film, every channel of the sample; counted
+            ++m_stats.rejected;
+            xyz = Vector3f(0.f);
+            std::fill(m_values.begin(), m_values.end(), 0.f);
+        }
+        v[0] = xyz.x, v[1] = xyz.y, v[2] = xyz.z;
+        ++m_stats.samples;
+        m_block.put(pFilm, v);
+        Vector3f rgb = xyzToLinearSRGB(xyz);
+        out[0] = rgb.x, out[1] = rgb.y, out[2] = rgb.z;
+    }
+
+private:
+    const Scene& m_scene;
+    const ISampleRenderer& m_renderer;
+    const SpectralBinning& m_bins;
+    std::vector<float> m_values;
+    Point2i m_pixel;
+    ImageBlock& m_block;
+    TileStats& m_stats;
+    Point2f m_offset;
+};
+
+} // namespace
+
+RenderStats renderSampled(const Scene& scene, const RenderControl& control, const IIntegrator& integrator,
+                          const ISampleRenderer& renderer, PixelVariance& variance) {
+    const IFilm& film = scene.camera().film();
+    const auto [lambdaMin, lambdaMax] = film.spectralRange();
+    const SpectralBinning bins(film.spectralBins(), lambdaMin, lambdaMax);
+    const std::vector<std::string> extra = renderer.sampleChannels();
+    std::vector<std::string> channels{"X", "Y", "Z"};
+    for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
+    channels.insert(channels.end(), extra.begin(), extra.end());
+    variance.prepare(film, control.accumulate);
+    return renderTiles(scene, control, channels, "Rendering",
+                       [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
+                           TileStats& stats) {
+                           SampledIntegrand f(scene, renderer, bins, extra.size(), px, block, stats);
+                           sampler.startPixel(px);
+                           variance.merge(px, integrator.integrate(f, sampler, range.first, range.count));
+                       });
+}
+
+std::vector<NestedRenderer> nestedRenderers(const Properties& p) {
+    std::vector<NestedRenderer> out;
+    int unnamed = 0;
+    for (const Properties::Entry& e : p.entries()) {
+        const auto* c = std::get_if<ComponentValue>(&e.value);
+        if (!c || c->tag != "renderer") continue;
+        std::string name = e.name.empty() ? fmt::format("_arg_{}", unnamed++) : e.name;
+        Ref<ISampleRenderer> r = query<ISampleRenderer>(c->object);
+        if (!r)
+            failAt(e.where,
+                   "{}: nested {} ('{}') cannot be nested: it renders whole images, not single samples "
+                   "(nestable renderers: direct, moment, aov)",
+                   p.describe(), c->object->typeName(), name);
+        out.push_back({std::move(name), std::move(r)});
+    }
+    return out;
+}
+
+Ref<IIntegrator> defaultIntegrator() {
+    Properties p("integrator", "mean");
+    Ref<IIntegrator> r = query<IIntegrator>(Registry::instance().create("integrator", "mean", p));
+    if (!r) fail("the default integrator 'mean' is not an integrator");
+    return r;
 }
 
 } // namespace effigi

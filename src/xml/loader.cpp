@@ -1,6 +1,7 @@
 // Node tree -> components -> Scene. Children are created before their parent (a
-// component's constructor receives finished parts), in file order, so a <ref> can
-// only name an object declared earlier — as in Mitsuba.
+// component's constructor receives finished parts), in file order. A <ref> may name an
+// object declared later, as in Mitsuba 3: that object is then built first, on demand,
+// and a cycle of references is an error naming the chain.
 #include "effigi/xml/loader.hpp"
 
 #include <algorithm>
@@ -17,48 +18,108 @@ std::string tagOf(const Ref<IComponent>& c) {
     return t.substr(0, t.find('/'));
 }
 
-[[noreturn]] void unknownRef(const xml::Child& c, const NamedMap& named) {
-    std::vector<std::string> ids;
-    for (const auto& kv : named) ids.push_back(kv.first);
-    if (ids.empty()) failAt(c.where, "<ref id=\"{}\">: unknown id (no object with an id is declared before it)", c.refId);
-    std::string known;
-    for (const auto& id : ids) known += (known.empty() ? "" : ", ") + id;
-    std::string hint = didYouMean(c.refId, ids);
-    failAt(c.where, "<ref id=\"{}\">: unknown id{} (ids declared before it: {})", c.refId,
-           hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint), known);
-}
+/// Building one scene: every object with an id (at any depth) is known up front so that
+/// a <ref> can build it on demand; `building` holds the ids under construction.
+struct Builder {
+    Registry& registry;
+    NamedMap named;
+    std::map<std::string, const xml::Node*> declared;
+    std::vector<std::pair<std::string, SourceLocation>> building;
 
-Ref<IComponent> build(const xml::Node& node, Registry& registry, NamedMap& named) {
-    Properties props = node.props;
-    for (const xml::Child& c : node.children) {
-        Ref<IComponent> obj;
-        std::string tag;
-        if (c.node) {
-            obj = build(*c.node, registry, named);
-            tag = c.node->tag;
-        } else {
-            auto it = named.find(c.refId);
-            if (it == named.end()) unknownRef(c, named);
-            obj = it->second;
-            tag = tagOf(obj);
+    void index(const xml::Node& n) {
+        if (!n.id.empty()) declared.emplace(n.id, &n);
+        for (const xml::Child& c : n.children)
+            if (c.node) index(*c.node);
+    }
+
+    [[noreturn]] void unknownRef(const xml::Child& c) const {
+        std::vector<std::string> ids;
+        for (const auto& kv : named) ids.push_back(kv.first);
+        for (const auto& kv : declared)
+            if (!named.count(kv.first)) ids.push_back(kv.first);
+        std::sort(ids.begin(), ids.end());
+        if (ids.empty()) failAt(c.where, "<ref id=\"{}\">: unknown id (no object in the scene has an id)", c.refId);
+        std::string hint = didYouMean(c.refId, ids);
+        failAt(c.where, "<ref id=\"{}\">: unknown id{} (ids in the scene: {})", c.refId,
+               hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint), fmt::join(ids, ", "));
+    }
+
+    Ref<IComponent> resolve(const xml::Child& c) {
+        if (auto it = named.find(c.refId); it != named.end()) return it->second;
+        auto d = declared.find(c.refId);
+        if (d == declared.end()) unknownRef(c);
+        auto cyc = std::find_if(building.begin(), building.end(), [&](auto& b) { return b.first == c.refId; });
+        if (cyc != building.end()) {
+            std::string chain;
+            for (auto it = cyc; it != building.end(); ++it) chain += it->first + " -> ";
+            failAt(c.where, "<ref id=\"{}\">: circular reference {}{} (declared at {})", c.refId, chain, c.refId,
+                   d->second->where.str());
         }
-        // Unnamed children go in under the empty name; the schema assigns them to its
-        // child slots by tag.
-        props.set(c.name, ComponentValue{tag, obj}, c.where);
+        // A reference to an object declared later: build it now.
+        return build(*d->second, nullptr);
     }
-    Ref<IComponent> obj;
-    try {
-        obj = registry.create(node.tag, node.type, props);
-    } catch (const Error&) {
-        throw;
-    } catch (const std::exception& ex) {
-        // A component that throws something else still gets a located, one-line message.
-        failAt(node.where, "{} '{}': {}", node.tag, node.type, ex.what());
+
+    /// The registry tag of an element. Mitsuba nests integrators in integrators (aov,
+    /// moment); inside an effigi renderer a nested <integrator> is a renderer too, unless
+    /// it names one of effigi's numerical integrators (mean, stratified).
+    std::string tagFor(const xml::Node& node, const xml::Node* parent) const {
+        if (node.tag == "integrator" && parent && parent->tag == "renderer" &&
+            !registry.knows("integrator", node.type) && registry.knows("renderer", node.type))
+            return "renderer";
+        return node.tag;
     }
-    if (!obj) failAt(node.where, "{} '{}': the component could not be created", node.tag, node.type);
-    if (!node.id.empty()) named[node.id] = obj;
-    return obj;
-}
+
+    Ref<IComponent> build(const xml::Node& node, const xml::Node* parent) {
+        const std::string tag = tagFor(node, parent);
+        if (!node.id.empty())
+            if (auto it = named.find(node.id); it != named.end()) return it->second;  // built on demand earlier
+        if (!node.id.empty()) building.emplace_back(node.id, node.where);
+        Properties props = node.props;
+        for (const xml::Child& c : node.children) {
+            Ref<IComponent> obj;
+            std::string childTag;
+            if (c.node) {
+                obj = build(*c.node, &node);
+                childTag = tagFor(*c.node, &node);
+            } else {
+                obj = resolve(c);
+                childTag = tagOf(obj);
+            }
+            // Unnamed children go in under the empty name; the schema assigns them to its
+            // child slots by tag.
+            props.set(c.name, ComponentValue{childTag, obj}, c.where);
+        }
+        // An unknown nested type names its parent: "unknown integrator 'nope' ... inside
+        // renderer 'moment' at file:line" says where to look in a deep tree.
+        if (parent && !registry.knows(tag, node.type)) {
+            try {
+                // A nested <integrator> in a renderer is most likely meant as a renderer.
+                bool nestedRenderer = tag == "integrator" && parent->tag == "renderer";
+                registry.info(nestedRenderer ? "renderer" : tag, node.type);
+            } catch (const Error& e) {
+                std::string msg = e.what();
+                // A top-level <integrator> is a renderer in effigi; say what the file says.
+                std::string outer = parent->tag == "renderer" ? "integrator" : parent->tag;
+                failAt(node.where, "{} (inside {} '{}' at {})", msg, outer, parent->type, parent->where.str());
+            }
+        }
+        Ref<IComponent> obj;
+        try {
+            obj = registry.create(tag, node.type, props);
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& ex) {
+            // A component that throws something else still gets a located, one-line message.
+            failAt(node.where, "{} '{}': {}", tag, node.type, ex.what());
+        }
+        if (!obj) failAt(node.where, "{} '{}': the component could not be created", tag, node.type);
+        if (!node.id.empty()) {
+            named[node.id] = obj;
+            building.pop_back();
+        }
+        return obj;
+    }
+};
 
 template <typename I> Ref<I> as(const Ref<IComponent>& obj, const xml::Node& node) {
     Ref<I> r = query<I>(obj);
@@ -70,13 +131,15 @@ template <typename I> Ref<I> as(const Ref<IComponent>& obj, const xml::Node& nod
 
 Ref<IComponent> instantiate(const xml::Node& node, Registry& registry,
                             const std::map<std::string, Ref<IComponent>>& named) {
-    NamedMap local = named;
-    return build(node, registry, local);
+    Builder b{registry, named, {}, {}};
+    b.index(node);
+    return b.build(node, nullptr);
 }
 
 std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
     if (root.tag != "scene") failAt(root.where, "expected a <scene> element, got <{}>", root.tag);
-    NamedMap named;
+    Builder builder{registry, {}, {}, {}};
+    builder.index(root);
     std::vector<Ref<IShape>> shapes;
     std::vector<Ref<IEmitter>> emitters;
     Ref<ICamera> camera;
@@ -99,8 +162,11 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
         if (t == "renderer") once(n, renderer != nullptr, rendererAt, "renderer (<integrator>)");
         if (t == "accelerator") once(n, accel != nullptr, accelAt, "accelerator");
 
-        Ref<IComponent> obj = build(n, registry, named);
+        Ref<IComponent> obj = builder.build(n, nullptr);
         if (t == "shape") {
+            // A shapegroup is geometry for instances to reference (Mitsuba 3), never
+            // rendered by itself: it stays out of the scene's shape list.
+            if (n.type == "shapegroup") continue;
             shapes.push_back(as<IShape>(obj, n));
         } else if (t == "emitter") {
             emitters.push_back(as<IEmitter>(obj, n));

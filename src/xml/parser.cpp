@@ -1,10 +1,14 @@
 // Scene XML (Mitsuba 3 grammar) -> Node tree. pugixml does the XML; this file does
-// the grammar: which elements exist, $variables, <include>, aliases, version < 3
-// names, ids. Values are typed in values.cpp. pugixml reports byte offsets, which
-// are turned into line numbers so that every node and error can say file:line.
+// the grammar: which elements exist, $variables (variables.cpp), <include>, <path> and
+// file names (Mitsuba's file resolver, resolver.cpp), aliases, version < 3 names
+// (upgrade.cpp), ids. Values are typed in values.cpp. pugixml reports byte offsets,
+// which are turned into line numbers so that every node and error can say file:line.
 #include "effigi/xml/parser.hpp"
 
+#include "resolver.hpp"
+#include "upgrade.hpp"
 #include "values.hpp"
+#include "variables.hpp"
 
 #include <pugixml.hpp>
 
@@ -17,6 +21,10 @@
 namespace effigi::xml {
 
 using detail::Element;
+using detail::upgradeAttribute;
+using detail::upgradeFromV1;
+using detail::upgradeName;
+using detail::upgradeTag;
 
 namespace {
 
@@ -26,16 +34,11 @@ const std::vector<std::string> kObjectTags = {
     "function", "integrator", "sampler", "generator", "warp",   "rootfinder",      "shape",
     "accelerator", "bsdf",   "texture", "emitter",   "camera", "sensor",          "rfilter",
     "film",     "mesh",      "store",   "illuminationmap", "pathgenerator", "renderer", "solver",
-    "formfactor"};
-const std::vector<std::string> kSpecialTags = {"default", "include", "ref"};
+    "formfactor", "medium", "phase", "volume"};
+const std::vector<std::string> kSpecialTags = {"default", "include", "ref", "path"};
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
-}
-
-bool isIdentifier(const std::string& s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-    return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
 std::string readFile(const std::filesystem::path& p, bool& ok) {
@@ -54,6 +57,7 @@ struct SourceFile {
     std::filesystem::path dir;
     std::vector<std::size_t> newlines;
     bool oldNames = false;  // version < 3.0: camelCase names
+    int major = 3;          // the file's version="major.minor.patch"
 
     SourceFile(std::string n, std::filesystem::path d, const std::string& text)
         : name(std::move(n)), dir(std::move(d)) {
@@ -72,7 +76,7 @@ using NameMap = std::map<std::string, SourceLocation>;
 
 class Parser {
 public:
-    explicit Parser(const ParseOptions& opt) : m_opt(opt) {}
+    explicit Parser(const ParseOptions& opt) : m_vars(opt.defines) {}
 
     std::unique_ptr<Node> parseTop(const std::string& text, const std::string& filename) {
         auto root = std::make_unique<Node>();
@@ -81,10 +85,10 @@ public:
         std::error_code ec;
         std::filesystem::path canon = std::filesystem::weakly_canonical(filename, ec);
         m_stack.push_back(ec ? std::filesystem::path(filename) : canon);
+        // Mitsuba's file resolver starts with the folder of the main scene file.
+        m_resolver.reset(std::filesystem::path(filename).parent_path());
         parseDocument(text, filename, nullptr, *root, names);
-        for (const auto& [name, value] : m_opt.defines)
-            if (!m_declared.count(name))
-                fail("{}: -D {}: scene declares no <default name=\"{}\">", filename, name, name);
+        m_vars.checkDefinesUsed(filename);
         return root;
     }
 
@@ -110,9 +114,11 @@ private:
         if (e.tag != "scene") e.fail("the root element must be <scene>");
         e.allowOnly({"version"});
         if (const std::string* v = e.find("version")) {
-            f.oldNames = versionBefore3(e, *v);
+            f.major = versionMajor(e, *v);
+            f.oldNames = f.major < 3;
         } else if (includer) {
             f.oldNames = includer->oldNames;
+            f.major = includer->major;
         } else {
             e.fail("missing attribute 'version' (e.g. version=\"3.0.0\")");
         }
@@ -123,62 +129,36 @@ private:
         parseChildren(root, f, parent, names);
     }
 
-    static bool versionBefore3(const Element& e, const std::string& v) {
+    static int versionMajor(const Element& e, const std::string& v) {
         int major = 0;
         auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), major);
         bool ok = ec == std::errc() && ptr != v.data();
         for (const char* p = ptr; ok && p != v.data() + v.size(); ++p)
             ok = std::isdigit(static_cast<unsigned char>(*p)) || *p == '.';
         if (!ok) e.fail("attribute 'version': expected major.minor.patch, got '{}'", v);
-        return major < 3;
+        return major;
     }
 
     /// An element's attributes, after $substitution unless `raw`.
     Element element(pugi::xml_node x, const SourceFile& f, bool substitute) {
         Element e;
-        e.tag = x.name();
+        e.tag = f.oldNames ? upgradeTag(x.name()) : std::string(x.name());
         e.where = f.at(x.offset_debug());
         for (pugi::xml_attribute a : x.attributes()) {
-            std::string name = a.name();
+            std::string name = f.oldNames ? upgradeAttribute(e.tag, a.name()) : std::string(a.name());
             if (e.find(name)) e.fail("attribute '{}' given twice", name);
             e.attrs.emplace_back(name, a.value());
         }
         // `name` first, so that errors in the other attributes can name the element.
         for (auto& [k, v] : e.attrs) {
             if (k != "name") continue;
-            if (substitute) v = substituted(v, e, k);
-            e.name = f.oldNames ? camelToSnake(v) : v;
+            if (substitute) v = m_vars.substitute(v, e, k);
+            e.name = f.oldNames ? upgradeName(v) : v;
         }
         if (substitute)
             for (auto& [k, v] : e.attrs)
-                if (k != "name") v = substituted(v, e, k);
+                if (k != "name") v = m_vars.substitute(v, e, k);
         return e;
-    }
-
-    std::string substituted(const std::string& text, const Element& e, const std::string& attr) {
-        std::string out;
-        for (std::size_t i = 0; i < text.size(); ++i) {
-            char next = i + 1 < text.size() ? text[i + 1] : '\0';
-            if (text[i] != '$' || !(std::isalpha(static_cast<unsigned char>(next)) || next == '_')) {
-                out += text[i];
-                continue;
-            }
-            std::size_t j = i + 1;
-            while (j < text.size() && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_')) ++j;
-            std::string var = text.substr(i + 1, j - i - 1);
-            auto it = m_vars.find(var);
-            if (it == m_vars.end()) {
-                std::vector<std::string> known;
-                for (const auto& kv : m_vars) known.push_back(kv.first);
-                std::string hint = didYouMean(var, known);
-                e.fail("attribute '{}': undefined variable '${}' (declare it first with <default name=\"{}\" "
-                       "value=\"...\"/>){}",
-                       attr, var, var, hint.empty() ? "" : fmt::format("; did you mean '${}'?", hint));
-            }
-            out += it->second;
-            i = j - 1;
-        }
-        return out;
     }
 
     void checkName(NameMap& names, const Node& parent, const Element& e) {
@@ -195,11 +175,13 @@ private:
             if (x.type() == pugi::node_pcdata || x.type() == pugi::node_cdata)
                 failAt(f.at(x.offset_debug()), "unexpected text '{}' inside <{}>", x.value(), xml.name());
             if (x.type() != pugi::node_element) continue;
-            std::string tag = x.name();
+            std::string tag = f.oldNames ? upgradeTag(x.name()) : std::string(x.name());
             if (tag == "default") {
-                parseDefault(x, f);
+                m_vars.declare(element(x, f, false));
             } else if (tag == "include") {
                 parseInclude(x, f, node, names);
+            } else if (tag == "path") {
+                parsePath(x, f, node);
             } else if (tag == "ref") {
                 Element e = element(x, f, true);
                 e.allowOnly({"id", "name"});
@@ -223,26 +205,17 @@ private:
         }
     }
 
-    void parseDefault(pugi::xml_node x, const SourceFile& f) {
-        Element e = element(x, f, false);
-        e.allowOnly({"name", "value"});
-        std::string name = e.require("name");
-        const std::string& value = e.require("value");
-        if (!isIdentifier(name)) e.fail("'{}' is not a valid variable name", name);
-        if (!m_declared.emplace(name, e.where).second)
-            e.fail("variable '{}' is declared twice (first at {})", name, m_declared[name].str());
-        auto d = m_opt.defines.find(name);
-        m_vars[name] = d != m_opt.defines.end() ? d->second : value;
-    }
-
     void parseInclude(pugi::xml_node x, const SourceFile& f, Node& node, NameMap& names) {
         Element e = element(x, f, true);
         e.allowOnly({"filename"});
         std::filesystem::path rel = e.require("filename");
-        std::filesystem::path p = rel.is_absolute() ? rel : f.dir / rel;
+        // As in Mitsuba: the including file's folder first, then the search path (<path>
+        // entries and the main scene's folder).
+        std::vector<std::filesystem::path> tried;
+        std::filesystem::path p = m_resolver.find(rel, f.dir, false, tried);
         bool ok = false;
         std::string text = readFile(p, ok);
-        if (!ok) e.fail("cannot open included file '{}' (looked for {})", rel.string(), p.string());
+        if (!ok) e.fail("cannot open included file '{}' (looked for {})", rel.string(), detail::joinPaths(tried));
         std::error_code ec;
         std::filesystem::path canon = std::filesystem::weakly_canonical(p, ec);
         if (ec) canon = p;
@@ -252,8 +225,27 @@ private:
             e.fail("include cycle: {}{}", chain, canon.filename().string());
         }
         m_stack.push_back(canon);
+        // <path> entries of the included file hold while it is read, as in Mitsuba.
+        std::vector<std::filesystem::path> searchPath = m_resolver.dirs();
         parseDocument(text, p.string(), &f, node, names);
+        m_resolver.setDirs(std::move(searchPath));
         m_stack.pop_back();
+    }
+
+    /// <path value="dir"/>: put a folder in front of the search path for file names
+    /// given later; a relative one is looked up from the current file's folder first.
+    void parsePath(pugi::xml_node x, const SourceFile& f, const Node& node) {
+        Element e = element(x, f, true);
+        e.allowOnly({"value"});
+        const std::string& value = e.require("value");
+        if (node.tag != "scene") e.fail("<path> must be a direct child of <scene>");
+        if (!x.first_child().empty()) e.fail("a <path> takes no children");
+        std::vector<std::filesystem::path> tried;
+        std::filesystem::path dir = m_resolver.find(value, f.dir, true, tried);
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec))
+            e.fail("folder '{}' not found (looked for {})", value, detail::joinPaths(tried));
+        m_resolver.prepend(dir);
     }
 
     void parseProperty(pugi::xml_node x, const SourceFile& f, Node& node, NameMap& names) {
@@ -283,6 +275,12 @@ private:
             for (pugi::xml_node c : x.children())
                 if (c.type() == pugi::node_element || c.type() == pugi::node_pcdata)
                     e.fail("a property element takes no content");
+            // File names go through the search path (<path>, the main scene's folder).
+            const char* fileAttr = e.tag == "spectrum"                           ? "filename"
+                                   : e.tag == "string" && e.name == "filename" ? "value"
+                                                                               : nullptr;
+            for (auto& [k, v] : e.attrs)
+                if (fileAttr && k == fileAttr) v = m_resolver.resolveName(v, f.dir);
             value = detail::parseProperty(e, f.dir);
         }
         checkName(names, node, e);
@@ -313,40 +311,20 @@ private:
         if (++m_depth > kMaxDepth) e.fail("objects are nested more than {} levels deep", kMaxDepth);
         NameMap inner;
         parseChildren(x, f, *node, inner);
+        if (f.major < 2) upgradeFromV1(*node);
         --m_depth;
         parent.children.push_back(Child{e.name, std::move(node), "", e.where});
     }
 
-    const ParseOptions& m_opt;
-    std::map<std::string, std::string> m_vars;          // $name -> value
-    std::map<std::string, SourceLocation> m_declared;   // <default> declarations
+    detail::Variables m_vars;                           // <default>, -D and $substitution
     std::map<std::string, SourceLocation> m_ids;
     std::vector<std::filesystem::path> m_stack;         // files being included
+    detail::FileResolver m_resolver;                    // the search path for file names
     static constexpr int kMaxDepth = 100;
     int m_depth = 0;
 };
 
 } // namespace
-
-std::string camelToSnake(const std::string& name) {
-    std::string out;
-    auto upper = [](char c) { return std::isupper(static_cast<unsigned char>(c)) != 0; };
-    auto lowerOrDigit = [](char c) {
-        return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c));
-    };
-    for (std::size_t i = 0; i < name.size(); ++i) {
-        char c = name[i];
-        if (upper(c) && i > 0) {
-            // A word starts at an upper-case letter after a lower-case one ("maxDepth"), or at
-            // the last capital of an acronym followed by lower case ("HDRFilm" -> "hdr_film").
-            bool boundary = lowerOrDigit(name[i - 1]) ||
-                            (upper(name[i - 1]) && i + 1 < name.size() && std::islower(static_cast<unsigned char>(name[i + 1])));
-            if (boundary && out.back() != '_') out += '_';
-        }
-        out += char(std::tolower(static_cast<unsigned char>(c)));
-    }
-    return out;
-}
 
 std::unique_ptr<Node> parseString(const std::string& text, const std::string& filename, const ParseOptions& opt) {
     return Parser(opt).parseTop(text, filename);

@@ -27,6 +27,7 @@ struct ParamSpec {
     bool required = false;
     bool multiple = false;              // Component: any number of unnamed children
     bool acceptsName = false;           // Float/Spectrum: a <string> (a named value) is accepted too
+    bool ignored = false;               // accepted for Mitsuba compatibility, not used (said at -v)
 
     ParamSpec& range(double lo, double hi) { min = lo; max = hi; return *this; }
     ParamSpec& atLeast(double lo) { min = lo; return *this; }
@@ -35,6 +36,9 @@ struct ParamSpec {
     ParamSpec& isRequired() { required = true; return *this; }
     /// Also accept a string naming the value (Mitsuba's int_ior="bk7"); the component resolves it.
     ParamSpec& orName() { acceptsName = true; return *this; }
+    /// Accepted because Mitsuba's plugin of the same name takes it, but not used by this
+    /// component: validation says so once at -v instead of failing.
+    ParamSpec& isIgnored() { ignored = true; return *this; }
 };
 
 /// A named parameter set the conformance runner instantiates (ordinary or extreme).
@@ -77,6 +81,9 @@ public:
     ParamSpec& child(const std::string& tag, const std::string& name, std::string doc);
     /// Any number of unnamed nested components of one tag.
     ParamSpec& children(const std::string& tag, std::string doc);
+    /// A parameter Mitsuba's plugin of the same name accepts and this one ignores (any
+    /// value type is accepted); `doc` says why it is ignored.
+    ParamSpec& ignored(const std::string& name, std::string doc);
 
     Schema& addConformance(ConformanceConfig c) { m_configs.push_back(std::move(c)); return *this; }
 

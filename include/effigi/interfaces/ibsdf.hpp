@@ -17,6 +17,11 @@ enum BSDFFlags : std::uint32_t {
     BSDFDiffuse = 1u << 2,
     BSDFGlossy = 1u << 3,
     BSDFSpecular = 1u << 4,  ///< Dirac delta lobe: f() and pdf() are zero, only sample() reaches it
+    /// Pass-through (Mitsuba's Null): light continues along -wo unchanged in direction, the
+    /// surface is an index-matched interface (null, the transparent part of mask). Sampled
+    /// as a delta transmission with wi = -wo; renderers do not count it as a bounce, and
+    /// shadow rays cross it, weighted by evalNullTransmission().
+    BSDFNull = 1u << 5,
 };
 
 /// Radiance: adjoint of importance. Matters for refraction (η² scaling) and shading normals.
@@ -59,7 +64,17 @@ public:
     /// The default integrates f numerically with fixed stratified samples.
     virtual SampledSpectrum albedo(const SurfaceInteraction& si, const SampledWavelengths& lambda) const;
 
+    /// Weight of the pass-through (BSDFNull) part for a ray crossing the surface straight:
+    /// 1 for `null`, 1 − opacity for `mask`, 0 (the default) for an opaque surface.
+    virtual SampledSpectrum evalNullTransmission(const SurfaceInteraction& si,
+                                                 const SampledWavelengths& lambda) const {
+        (void)si;
+        (void)lambda;
+        return SampledSpectrum(0.f);
+    }
+
     bool hasSpecular() const { return flags() & BSDFSpecular; }
+    bool hasNull() const { return flags() & BSDFNull; }
     /// True if every lobe is a delta (no point in light sampling).
     bool isPureSpecular() const { return (flags() & (BSDFDiffuse | BSDFGlossy)) == 0; }
 };

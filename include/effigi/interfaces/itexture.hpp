@@ -18,6 +18,18 @@ public:
     virtual float evalFloat(const SurfaceInteraction& si) const = 0;
     /// Upper bound of eval over all points and wavelengths.
     virtual float maxValue() const = 0;
+    /// Average of evalFloat over the texture's domain (lobe-selection weights, as
+    /// Mitsuba's Texture::mean). Default: the upper bound.
+    virtual float mean() const { return maxValue(); }
+    /// Raw three-channel value (normal maps read RGB as a vector, not a colour).
+    /// Default: the scalar reading in all three channels.
+    virtual Vector3f evalVector(const SurfaceInteraction& si) const { return Vector3f(evalFloat(si)); }
+    /// Gradient of evalFloat with respect to (u, v) (bump mapping). Default: zero, right
+    /// for textures that are piecewise constant.
+    virtual Vector2f evalFloatGradient(const SurfaceInteraction& si) const {
+        (void)si;
+        return Vector2f(0.f);
+    }
     /// True when eval does not depend on the surface point.
     virtual bool isConstant() const { return false; }
 };

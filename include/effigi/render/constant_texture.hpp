@@ -15,6 +15,7 @@ public:
     }
     float evalFloat(const SurfaceInteraction&) const override { return m_mean; }
     float maxValue() const override { return m_max; }
+    float mean() const override { return m_mean; }
     bool isConstant() const override { return true; }
     const Spectrum& spectrum() const { return m_spectrum; }
 

@@ -16,6 +16,12 @@ struct SurfaceInteraction {
     Normal3f n{0.f, 0.f, 1.f};  ///< geometric normal (winding / outward)
     Frame shading;              ///< shading frame; shading.n may differ from n
     Point2f uv{0.f};
+    /// Partial derivatives of p with respect to uv (zero where the shape has no
+    /// parametrisation); bump and normal maps perturb the shading frame with them.
+    Vector3f dpdu{0.f}, dpdv{0.f};
+    /// The primitive's own hit coordinates (barycentrics b1, b2 on triangles): per-vertex
+    /// attributes (mesh_attribute) are interpolated with them.
+    Point2f primUV{0.f};
     Vector3f wo{0.f};  ///< unit direction back along the arriving ray (world)
     const IShape* shape = nullptr;
     const IBSDF* bsdf = nullptr;

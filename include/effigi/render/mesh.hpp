@@ -11,11 +11,28 @@
 
 namespace effigi {
 
+/// A named per-vertex or per-face attribute (PLY colours and extra properties), read by
+/// the mesh_attribute texture as Mitsuba's "vertex_<name>" / "face_<name>".
+struct MeshAttribute {
+    std::string name;       ///< with its prefix: "vertex_color", "face_color", ...
+    int channels = 1;       ///< 1 or 3
+    bool perFace = false;
+    std::vector<float> data;  ///< channels floats per vertex (or per triangle)
+};
+
 struct TriangleMesh {
     std::vector<Point3f> positions;
     std::vector<Normal3f> normals;  // per vertex, optional
     std::vector<Point2f> uvs;       // per vertex, optional
     std::vector<std::uint32_t> indices;  // 3 per triangle
+    std::vector<MeshAttribute> attributes;
+
+    /// The attribute called name, or null.
+    const MeshAttribute* attribute(const std::string& name) const {
+        for (const MeshAttribute& a : attributes)
+            if (a.name == name) return &a;
+        return nullptr;
+    }
 
     std::size_t triangleCount() const { return indices.size() / 3; }
     std::size_t vertexCount() const { return positions.size(); }

@@ -28,6 +28,16 @@ public:
     }
     bool occluded(const Ray& ray) const { return m_accel->occluded(ray); }
 
+    /// True if some shape's BSDF has a pass-through (BSDFNull) lobe (null, mask): only
+    /// then do shadow rays need transmittance() instead of occluded().
+    bool hasNullBSDFs() const { return m_hasNull; }
+    /// What a shadow ray keeps on its way (up to ray.tMax): the product of
+    /// evalNullTransmission() over the null / mask surfaces it crosses, zero at the first
+    /// opaque one. After MaxNullCrossings crossings the ray counts as blocked (so
+    /// nothing loops forever; a real scene never stacks that many).
+    SampledSpectrum transmittance(Ray ray, const SampledWavelengths& lambda) const;
+    static constexpr int MaxNullCrossings = 256;
+
     /// Pick an emitter uniformly (as Mitsuba 3 does);
     /// returns null when the scene has none.
     const IEmitter* sampleEmitter(float u, float& prob) const {
@@ -61,6 +71,7 @@ private:
     std::vector<const IShape*> m_shapePtrs;
     std::vector<const IEmitter*> m_emitterPtrs, m_envPtrs;
     BBox3f m_bbox;
+    bool m_hasNull = false;
 };
 
 } // namespace effigi

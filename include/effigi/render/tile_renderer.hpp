@@ -3,7 +3,9 @@
 // parallel (oneTBB), each thread with its own sampler clone and image block; tiles are
 // merged into the film as they finish. Progress, thread count and SIGINT come from the
 // RenderControl.
+#include "effigi/core/properties.hpp"
 #include "effigi/interfaces/ifilm.hpp"
+#include "effigi/interfaces/iintegrator.hpp"
 #include "effigi/interfaces/irenderer.hpp"
 #include "effigi/interfaces/isampler.hpp"
 #include "effigi/render/image_block.hpp"
@@ -63,5 +65,70 @@ RenderStats renderCameraSamples(const Scene& scene, const RenderControl& control
             }
         });
 }
+
+/// A renderer that can estimate one camera sample on its own (Mitsuba's
+/// SamplingIntegrator::sample). This is how renderers nest: a wrapper (moment, aov) draws
+/// the camera ray itself and asks each nested ISampleRenderer for that sample's radiance
+/// and channels, so it sees per-sample values (second moments) and can put several
+/// renderers' outputs into one film in one pass. A renderer opts in by implementing this
+/// next to IRenderer and rendering through renderSampled(); IRenderer::render() stays the
+/// only entry point of a top-level renderer.
+class ISampleRenderer : public virtual IComponent {
+public:
+    static constexpr InterfaceId IID = interfaceId("ISampleRenderer");
+    static constexpr const char* Tag = "renderer";
+
+    /// Names of the channels each sample writes besides colour (Mitsuba's aov_names()).
+    virtual std::vector<std::string> sampleChannels() const { return {}; }
+    /// Radiance arriving along the camera ray at the sample's wavelengths (a dispersive
+    /// event may terminate the secondary wavelengths); further dimensions come from
+    /// `sampler`. Writes sampleChannels().size() floats to `channels`.
+    virtual SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
+                                           ISampler& sampler, float* channels) const = 0;
+};
+
+/// A renderer nested in a wrapper, under the name its channels get: the child's `name`
+/// attribute, or "_arg_<i>" (its index among the unnamed ones), as Mitsuba 3 names them.
+struct NestedRenderer {
+    std::string name;
+    Ref<ISampleRenderer> renderer;
+};
+
+/// The renderers nested in `p` (children of tag "renderer", in file order). One that
+/// cannot render single samples is an error naming the wrapper `p` and the child.
+std::vector<NestedRenderer> nestedRenderers(const Properties& p);
+
+/// Each pixel's estimate pooled over the progressive passes so far (the integrator's own
+/// error estimate), kept compactly (28 bytes a pixel) for IRenderer::varianceEstimate().
+class PixelVariance {
+public:
+    /// Size the store for the film (cleared unless accumulating into the same size).
+    void prepare(const IFilm& film, bool accumulate);
+    /// Pool a pass's estimate into pixel `px` (disjoint pixels may merge in parallel).
+    void merge(const Point2i& px, const Estimate& e);
+    /// Variance of each pixel's R, G, B scaled by the film filter's factor; false if empty.
+    bool get(std::vector<float>& variance) const;
+
+private:
+    struct Pixel {
+        float mean[3] = {0.f, 0.f, 0.f}, variance[3] = {0.f, 0.f, 0.f};
+        std::uint32_t samples = 0;
+    };
+    std::vector<Pixel> m_pixels;
+    int m_width = 0;
+    double m_filterFactor = 1.0;
+};
+
+/// renderTiles for ISampleRenderers: every pixel is an integral over primary sample space
+/// estimated by `integrator` (EFFIGI's pick and mix). A sample draws wavelengths, a film
+/// position and a camera ray, asks `renderer` for its radiance and channels, and splats
+/// X, Y, Z, the film's spectral bins, then renderer.sampleChannels(); the integrand's value
+/// is the sample's linear sRGB, whose pooled variance goes to `variance`. NaN/Inf samples
+/// are kept off the film (all their channels) and counted.
+RenderStats renderSampled(const Scene& scene, const RenderControl& control, const IIntegrator& integrator,
+                          const ISampleRenderer& renderer, PixelVariance& variance);
+
+/// The default numerical integrator of renderers that nest one (`mean`).
+Ref<IIntegrator> defaultIntegrator();
 
 } // namespace effigi

@@ -1,7 +1,8 @@
 #pragma once
 // XML scene files in the Mitsuba 3 grammar -> a tree of elements with typed
-// properties. Handles <default>/$name substitution, -D overrides, <include>, and
-// version < 3 camelCase names. Every node and property keeps its file and line.
+// properties. Handles <default>/$name substitution, -D overrides, <include>, <path>
+// and file names (Mitsuba's search path), and version < 3 camelCase names. Every node
+// and property keeps its file and line.
 #include "effigi/core/properties.hpp"
 
 #include <filesystem>
@@ -32,7 +33,7 @@ struct Node {
 };
 
 struct ParseOptions {
-    /// -D name=value overrides of <default> values.
+    /// -D name=value: overrides a <default>, or sets a $name the scene does not declare.
     std::map<std::string, std::string> defines;
 };
 

@@ -1,0 +1,67 @@
+// camera "orthographic" — a parallel projection (Mitsuba's `orthographic` sensor).
+//
+// Every ray travels along the camera's +z axis; the film covers the rectangle
+// [-1, 1] x [-1/a, 1/a] (a = width / height) of the camera's near plane, so to_world's
+// scale sets the size of the viewed region (scale x=10 y=10 views 20 units across).
+// Camera space follows Mitsuba, as for perspective (projection.hpp): +y up, +x LEFT.
+// Rays start on the near plane z = near_clip (in camera units, scaled by to_world like
+// everything else) and run a length far_clip − near_clip.
+//
+// Parameters:
+//   near_clip, far_clip      float (default 1e-2, 1e4)  clip distances
+//   to_world                 transform  camera-to-world; lookat plus a scale for the extent
+//   film, sampler            nested  default: hdrfilm and independent
+//
+// Reference: Mitsuba 3 documentation, "Orthographic camera (orthographic)";
+// M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §5.1.
+#include "projection.hpp"
+
+namespace effigi {
+namespace {
+
+class OrthographicCamera final : public camera::ProjectiveCamera {
+public:
+    static Schema schema() {
+        Schema s("camera", "orthographic", "Orthographic (parallel) projection camera (Mitsuba's `orthographic`).");
+        s.cite("Mitsuba 3 documentation, Orthographic camera; PBRT 4th ed., §5.1");
+        s.transform("to_world", "Camera-to-world transform; its x/y scale sets the half-width of the view");
+        camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on this plane");
+        return s;
+    }
+
+    explicit OrthographicCamera(const Properties& p) : ProjectiveCamera(p) {
+        if (!m_toWorld.isFinite())
+            failAt(p.whereOf("to_world"), "{}: 'to_world' has non-finite entries", p.describe());
+        // The viewing direction and the film rectangle must not collapse.
+        glm::mat3 linear(m_toWorld.matrix());
+        float det = glm::determinant(linear);
+        Vector3f dir = m_toWorld.vector(Vector3f(0.f, 0.f, 1.f));
+        if (!(std::abs(det) > 0.f) || !std::isfinite(det) || !(length(dir) > 0.f))
+            failAt(p.whereOf("to_world"), "{}: 'to_world' must be invertible (it maps the film to a plane)", p.describe());
+        m_dir = normalize(dir);
+        m_filmSize = camera::filmSize(p, *m_film);
+        m_half = Vector2f(1.f, m_filmSize.y / m_filmSize.x);  // Mitsuba: x spans [-1, 1]
+    }
+
+    Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
+        // The same film -> plane map as the perspective camera, on the near plane and
+        // without the division by depth.
+        Vector3f local = camera::imagePlanePoint(s.pFilm, m_filmSize, m_half);
+        local.z = m_near;
+        Ray ray;
+        ray.o = m_toWorld.point(Point3f(local));
+        ray.d = m_dir;
+        ray.tMax = m_far - m_near;
+        weight = SampledSpectrum(1.f);
+        return ray;
+    }
+
+private:
+    Vector2f m_filmSize{1.f}, m_half{1.f};
+    Vector3f m_dir{0.f, 0.f, 1.f};
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::OrthographicCamera)

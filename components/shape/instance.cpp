@@ -1,0 +1,185 @@
+// instance — one placement of a shapegroup's shapes, under its own to_world.
+//
+// The instance is an analytic shape to whichever accelerator holds the scene: its
+// intersect() carries the ray into group space with the inverse of to_world and asks the
+// group's own ray-query structure (built once, shared by every instance of the group)
+// for the closest hit. The ray direction is transformed but not renormalised, so the
+// ray parameter t is the same in both spaces and needs no conversion.
+//
+// IShape::intersect can hand back only (t, uv), too little to name the member shape and
+// primitive hit, so interaction() traces the group-space ray once more, with tMax just
+// above t; the query is deterministic, so it finds the same closest hit. That second
+// query runs once per hit the renderer shades, not once per candidate.
+//
+// The member's surface description is then carried back to world space as Mitsuba 3
+// does: points and the tangents ∂p/∂u, ∂p/∂v with to_world, geometric and shading
+// normals with its inverse transpose (renormalised), the shading tangent with to_world
+// then re-orthogonalised against the new normal. The member's BSDF, uv, primitive and
+// barycentrics are kept, so textures (mesh attributes included) behave as on the member.
+//
+// Instances carry no emitter (shapegroup refuses emitting members, as Mitsuba does), so
+// renderers never sample them; area() and samplePosition() exist for completeness and
+// are exact for rotation, translation and uniform scale (for other transforms the area
+// is the member area times |det|^(2/3), an approximation).
+//
+// Parameters: to_world (affine, invertible; default identity) and exactly one nested or
+// referenced shapegroup. Reference: Mitsuba 3 documentation, "Instance (instance)".
+#include "shapegroup.hpp"
+
+#include "effigi/core/registry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace effigi {
+namespace {
+
+class Instance final : public Implements<IShape> {
+public:
+    static Schema schema() {
+        Schema s("shape", "instance", "A shapegroup placed in the scene under its own to_world.");
+        s.cite("Mitsuba 3 documentation, Instance (instance)");
+        s.transform("to_world", "Group-to-world transform (affine and invertible)");
+        s.child("shape", "shapegroup", "The shapegroup to place (usually <ref id=\"...\"/>)").isRequired();
+        return s;
+    }
+
+    explicit Instance(const Properties& p) {
+        Ref<IComponent> group = p.getComponent("shapegroup");
+        m_group = query<IShapeGroup>(group);
+        if (!m_group)
+            failAt(p.whereOf("shapegroup"), "{}: the nested or referenced shape must be a shapegroup, got '{}'",
+                   p.describe(), group ? group->typeName() : std::string("nothing"));
+        if (p.has("to_world")) m_toWorld = p.getTransform("to_world");
+
+        const glm::mat4& m = m_toWorld.matrix();
+        bool affine = m[0][3] == 0.f && m[1][3] == 0.f && m[2][3] == 0.f && m[3][3] == 1.f;
+        float det = glm::determinant(glm::mat3(m));
+        if (!m_toWorld.isFinite() || !affine || !(std::abs(det) > 0.f) || !std::isfinite(det))
+            failAt(p.whereOf("to_world"), "{}: parameter 'to_world' must be a finite, invertible affine transform",
+                   p.describe());
+        m_linear = glm::mat3(m);
+        m_normalMatrix = glm::transpose(glm::inverse(m_linear));
+        m_areaScale = std::pow(std::abs(det), 2.f / 3.f);
+
+        // World bounds: the eight transformed corners of the group's bounds.
+        BBox3f b = m_group->bbox();
+        if (b.valid()) {
+            for (int i = 0; i < 8; ++i)
+                m_bbox.expand(m_toWorld.point({i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
+                                               i & 4 ? b.max.z : b.min.z}));
+        } else {
+            // An empty group: a point box, so accelerators get finite bounds; it is never hit.
+            m_bbox.expand(m_toWorld.point(Point3f(0.f)));
+        }
+
+        m_members = m_group->shapes();
+        for (const IShape* s : m_members) {
+            m_memberArea += s->area();
+            m_areaCdf.push_back(m_memberArea);
+        }
+    }
+
+    BBox3f bbox() const override { return m_bbox; }
+
+    bool intersect(const Ray& ray, float& t, Point2f& uv) const override {
+        Hit h;
+        if (!m_group->intersector().intersect(toGroup(ray), h)) return false;
+        t = h.t;
+        uv = Point2f(0.f);
+        return true;
+    }
+
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const override {
+        Ray local = toGroup(ray);
+        // Just above hit.t, so the same closest hit is found again (see the file comment).
+        local.tMax = std::nextafter(std::max(hit.t, 0.f), Infinity) * (1.f + 0x1p-20f);
+        Hit h;
+        SurfaceInteraction si;
+        if (!m_group->intersector().intersect(local, h) || h.shape >= m_members.size()) {
+            // Not expected; a plain facing point rather than garbage if it ever happens.
+            si.t = hit.t;
+            si.p = ray(hit.t);
+            Vector3f d = normalize(ray.d);
+            si.n = -d;
+            si.shading = Frame(si.n);
+            si.wo = -d;
+            return si;
+        }
+        si = m_members[h.shape]->interaction(local, h);
+        toWorld(si);
+        si.t = hit.t;
+        si.wo = normalize(-ray.d);
+        return si;
+    }
+
+    float area() const override { return m_memberArea * m_areaScale; }
+
+    PositionSample samplePosition(const Point2f& u) const override {
+        PositionSample ps;
+        if (!(m_memberArea > 0.f)) return ps;
+        // Pick a member by its area, then reuse u.x within it.
+        float target = u.x * m_memberArea;
+        std::size_t i = std::min<std::size_t>(
+            std::size_t(std::upper_bound(m_areaCdf.begin(), m_areaCdf.end(), target) - m_areaCdf.begin()),
+            m_members.size() - 1);
+        float lo = i ? m_areaCdf[i - 1] : 0.f, width = m_areaCdf[i] - lo;
+        float ux = width > 0.f ? std::clamp((target - lo) / width, 0.f, OneMinusEpsilon) : 0.f;
+        ps = m_members[i]->samplePosition({ux, u.y});
+        ps.p = m_toWorld.point(ps.p);
+        ps.n = normalizeOr(m_normalMatrix * ps.n, ps.n);
+        ps.pdf = 1.f / area();
+        return ps;
+    }
+
+    const IBSDF* bsdf() const override { return m_group->representativeBsdf(); }
+    const IEmitter* emitter() const override { return nullptr; }
+    IEmitter* emitter() override { return nullptr; }
+
+private:
+    Ray toGroup(const Ray& ray) const {
+        const glm::mat4& inv = m_toWorld.inverseMatrix();
+        return Ray{Point3f(inv * glm::vec4(ray.o, 1.f)), Vector3f(inv * glm::vec4(ray.d, 0.f)), ray.tMax};
+    }
+
+    static Vector3f normalizeOr(const Vector3f& v, const Vector3f& fallback) {
+        float l2 = dot(v, v);
+        return l2 > 0.f && std::isfinite(l2) ? v / std::sqrt(l2) : fallback;
+    }
+
+    /// Carry a member's surface description from group space to world space.
+    void toWorld(SurfaceInteraction& si) const {
+        si.p = m_toWorld.point(si.p);
+        si.n = normalizeOr(m_normalMatrix * si.n, si.n);
+        Vector3f n = normalizeOr(m_normalMatrix * si.shading.n, si.n);
+        // The member's tangent follows the surface; Gram-Schmidt against the new normal.
+        Vector3f s = m_linear * si.shading.s;
+        s -= n * dot(n, s);
+        float s2 = dot(s, s);
+        if (s2 > 1e-20f && std::isfinite(s2)) {
+            s /= std::sqrt(s2);
+            // Right-handed, like every other shape's frame (a mirroring to_world thus
+            // mirrors the member's bitangent direction, not the frame's handedness).
+            si.shading = Frame(s, cross(n, s), n);
+        } else {
+            si.shading = Frame(n);
+        }
+        si.dpdu = m_linear * si.dpdu;
+        si.dpdv = m_linear * si.dpdv;
+    }
+
+    Ref<IShapeGroup> m_group;
+    std::span<const IShape* const> m_members;
+    std::vector<float> m_areaCdf;  // cumulative member areas in group space
+    float m_memberArea = 0.f;
+    Transform m_toWorld;
+    glm::mat3 m_linear{1.f}, m_normalMatrix{1.f};
+    float m_areaScale = 1.f;
+    BBox3f m_bbox;
+};
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::Instance)
