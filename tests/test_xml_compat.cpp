@@ -321,3 +321,21 @@ TEST_CASE("xml compat: effigi render --dry-run loads without rendering", "[xml][
     CHECK_THAT(undef.out, Contains("$spp"));
     fs::remove_all(dir);
 }
+
+TEST_CASE("xml compat: Mitsuba's volpath and volpathmis read as path while there are no media", "[xml]") {
+    for (const char* type : {"volpath", "volpathmis"}) {
+        auto root = parseString(std::string(R"(<scene version="3.0.0">
+    <integrator type="moment"><integrator type=")") + type + R"("><integer name="max_depth" value="3"/></integrator></integrator>
+    )" + kCamera + R"(
+    <shape type="sphere"/>
+</scene>)",
+                                "volpath.xml");
+        INFO(type);
+        auto scene = loadScene(*root);
+        CHECK(scene->renderer().typeName() == "renderer/moment");
+        auto top = parseString(std::string(R"(<scene version="3.0.0"><integrator type=")") + type + R"("/>
+    )" + kCamera + R"(<shape type="sphere"/></scene>)",
+                               "volpath_top.xml");
+        CHECK(loadScene(*top)->renderer().typeName() == "renderer/path");
+    }
+}

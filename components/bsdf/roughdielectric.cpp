@@ -16,18 +16,21 @@
 //
 // Sampling (Walter 2007, §5.3, with visible normals, Heitz & d'Eon 2014): a normal m from
 // the normals visible from wo (or from D cosθm when sample_visible is false), reflection
-// with probability F(wo·m) at the hero wavelength, refraction otherwise. The weight
-// f·|cosθi|/pdf is G/G1(wo) ≤ 1 in importance mode. sample() returns f(wo, wi) and
-// pdf(wo, wi) recomputed from wi, so that the two agree bit for bit at any roughness.
+// with probability F(wo·m), refraction otherwise. The weight f·|cosθi|/pdf is G/G1(wo) ≤ 1
+// in importance mode. sample() returns f(wo, wi) and pdf(wo, wi) recomputed from wi, so
+// that the two agree bit for bit at any roughness.
 //
-// Dispersion: unlike the smooth dielectric, a refracted sample does NOT terminate the
-// secondary wavelengths. Each wavelength's f is a density over the whole sphere (its own
-// half vector, its own η) and the hero's pdf is positive wherever it is, so the four
-// estimates f(λ)·cos/pdf(hero) are unbiased as they stand; terminating would in fact bias
-// the path tracer, whose light sample at this vertex — already taken with all four
-// wavelengths — uses MIS weights built on the same hero pdf the BSDF sample would no longer
-// contribute for the secondaries. The price is variance where the lobe is much narrower
-// than the dispersion (α ≲ 0.01 with bk7).
+// Dispersion: a refracted sample does NOT terminate the secondary wavelengths. Each
+// wavelength's f is a density over the whole sphere (its own half vector, its own η), so
+// f(λ)·cos/pdf is unbiased for every λ wherever pdf > 0; terminating would bias the path
+// tracer, whose light sample at this vertex, taken with all four wavelengths, is MIS-weighted
+// against this BSDF's pdf. That pdf is not the hero's alone: the index steering the Fresnel
+// choice and the refraction is drawn uniformly among the sampled wavelengths, so pdf is the
+// mixture (1/n) Σ_k pdf(wi; η(λk)) — the one-sample form of hero-wavelength MIS (Wilkie et
+// al. 2014). With the hero's pdf alone, a narrow lobe (α ≲ 0.01 with bk7) put each
+// secondary's f in a cone the hero's directions almost never reach: unbiased but so
+// heavy-tailed that 64 spp lost a quarter of the transmitted light; with the mixture,
+// f(λk)·cos/pdf ≤ n × the hero's bound. A flat index gives n = 1, as before.
 //
 // Parameters (as Mitsuba 3):
 //   distribution            string  beckmann (default) | ggx
@@ -162,25 +165,23 @@ public:
               TransportMode) const override {
         if (wo.z == 0.f || wi.z == 0.f) return 0.f;
         const MicrofacetDistribution dist = m_mf.at(si);
-        float eta = m_eta.eval(lambda)[0];  // sampling follows the hero wavelength
-        if (wo.z * wi.z > 0.f) {
-            Vector3f m;
-            float cosOM;
-            if (!reflectionNormal(wo, wi, m, cosOM)) return 0.f;
-            // Reflection maps m to wi with |dωi/dωm| = 4 |wo·m| (Walter 2007, eq. 14).
-            return toPdf(normalPdf(dist, wo, m) * fresnelDielectric(cosOM, eta) / (4.0 * std::abs(cosOM)));
-        }
-        Refraction r;
-        if (!refractionNormal(wo, wi, eta, r)) return 0.f;
-        // Refraction: |dωi/dωm| = ηi² |wi·m| / (ηo wo·m + ηi wi·m)² (Walter 2007, eq. 17).
-        double F = r.fresnel(wo, eta);
-        return toPdf(normalPdf(dist, wo, r.m) * (1.0 - F) * r.etaI * r.etaI * std::abs(r.cosIM) / r.v2);
+        // The mixture over the wavelengths that may steer sample() (see the header).
+        SampledSpectrum eta = m_eta.eval(lambda);
+        int n = steeringCount(eta);
+        double sum = 0.0;
+        for (int k = 0; k < n; ++k) sum += pdfForEta(dist, wo, wi, eta[k]);
+        return toPdf(sum / n);
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f& u,
                                      SampledWavelengths& lambda, TransportMode mode) const override {
         if (wo.z == 0.f) return std::nullopt;
-        float eta = m_eta.eval(lambda)[0];
+        // The wavelength whose index steers this sample, uniformly; uc's remainder picks the lobe.
+        SampledSpectrum etas = m_eta.eval(lambda);
+        int n = steeringCount(etas);
+        int k = std::min(int(uc * float(n)), n - 1);
+        uc = uc * float(n) - float(k);
+        float eta = etas[k];
         const MicrofacetDistribution dist = m_mf.at(si);
         Vector3f m = m_sampleVisible ? dist.sampleVisible(wo, u) : dist.sampleNormal(u);
         float cosOM = dot(wo, m);
@@ -199,7 +200,7 @@ public:
             Vector3f n = cosOM > 0.f ? m : -m;
             bs.wi = normalize(-wo / e + (cosI / e - cosT) * n);
             bs.flags = BSDFTransmission | BSDFGlossy;
-            bs.eta = e;  // η(wi side) / η(wo side)
+            bs.eta = cosOM > 0.f ? etas[0] : 1.f / etas[0];  // η(wi side) / η(wo side), at the hero
             if (!(bs.wi.z * wo.z < 0.f)) return std::nullopt;  // refracted back to wo's side
         }
         bs.pdf = pdf(si, wo, bs.wi, lambda, mode);
@@ -258,6 +259,30 @@ private:
         double v = std::abs(r.cosIM * r.cosOM) / std::abs(double(wi.z) * wo.z) * r.etaO * r.etaO * (1.0 - F) * G * D /
                    r.v2;
         return float(std::min(v, 1e30));
+    }
+
+    /// The wavelengths sample() chooses among: all of them where the index varies, else
+    /// the hero alone (the mixture would repeat one density).
+    static int steeringCount(const SampledSpectrum& eta) {
+        for (int i = 1; i < NSpectrumSamples; ++i)
+            if (eta[i] != eta[0]) return NSpectrumSamples;
+        return 1;
+    }
+
+    /// The density of wi when the lobe choice and refraction follow one relative index.
+    double pdfForEta(const MicrofacetDistribution& dist, const Vector3f& wo, const Vector3f& wi, float eta) const {
+        if (wo.z * wi.z > 0.f) {
+            Vector3f m;
+            float cosOM;
+            if (!reflectionNormal(wo, wi, m, cosOM)) return 0.0;
+            // Reflection maps m to wi with |dωi/dωm| = 4 |wo·m| (Walter 2007, eq. 14).
+            return normalPdf(dist, wo, m) * fresnelDielectric(cosOM, eta) / (4.0 * std::abs(cosOM));
+        }
+        Refraction r;
+        if (!refractionNormal(wo, wi, eta, r)) return 0.0;
+        // Refraction: |dωi/dωm| = ηi² |wi·m| / (ηo wo·m + ηi wi·m)² (Walter 2007, eq. 17).
+        double F = r.fresnel(wo, eta);
+        return normalPdf(dist, wo, r.m) * (1.0 - F) * r.etaI * r.etaI * std::abs(r.cosIM) / r.v2;
     }
 
     double normalPdf(const MicrofacetDistribution& dist, const Vector3f& wo, const Vector3f& m) const {

@@ -4,6 +4,10 @@
 // and a cycle of references is an error naming the chain.
 #include "effigi/xml/loader.hpp"
 
+#include "effigi/core/log.hpp"
+
+#include <mutex>
+
 #include <algorithm>
 
 namespace effigi {
@@ -64,13 +68,25 @@ struct Builder {
     /// it names one of effigi's numerical integrators (mean, stratified).
     std::string tagFor(const xml::Node& node, const xml::Node* parent) const {
         if (node.tag == "integrator" && parent && parent->tag == "renderer" &&
-            !registry.knows("integrator", node.type) && registry.knows("renderer", node.type))
+            !registry.knows("integrator", node.type) && registry.knows("renderer", typeFor("renderer", node.type)))
             return "renderer";
         return node.tag;
     }
 
+    /// Mitsuba's volumetric path tracers are its path tracer plus participating media.
+    /// effigi has no media yet (a scene that declares one fails on its <medium>), and its
+    /// `path` already crosses null interfaces as volpath does, so for every scene that
+    /// loads, `volpath` and `volpathmis` are `path` (same parameters). Said at -v.
+    std::string typeFor(const std::string& tag, const std::string& type) const {
+        if (tag != "renderer" || (type != "volpath" && type != "volpathmis") || registry.knows(tag, type)) return type;
+        static std::once_flag said;
+        std::call_once(said, [&] { log::info("renderer '{}' is read as 'path' (no participating media)", type); });
+        return "path";
+    }
+
     Ref<IComponent> build(const xml::Node& node, const xml::Node* parent) {
         const std::string tag = tagFor(node, parent);
+        const std::string type = typeFor(tag, node.type);
         if (!node.id.empty())
             if (auto it = named.find(node.id); it != named.end()) return it->second;  // built on demand earlier
         if (!node.id.empty()) building.emplace_back(node.id, node.where);
@@ -91,11 +107,11 @@ struct Builder {
         }
         // An unknown nested type names its parent: "unknown integrator 'nope' ... inside
         // renderer 'moment' at file:line" says where to look in a deep tree.
-        if (parent && !registry.knows(tag, node.type)) {
+        if (parent && !registry.knows(tag, type)) {
             try {
                 // A nested <integrator> in a renderer is most likely meant as a renderer.
                 bool nestedRenderer = tag == "integrator" && parent->tag == "renderer";
-                registry.info(nestedRenderer ? "renderer" : tag, node.type);
+                registry.info(nestedRenderer ? "renderer" : tag, type);
             } catch (const Error& e) {
                 std::string msg = e.what();
                 // A top-level <integrator> is a renderer in effigi; say what the file says.
@@ -105,7 +121,7 @@ struct Builder {
         }
         Ref<IComponent> obj;
         try {
-            obj = registry.create(tag, node.type, props);
+            obj = registry.create(tag, type, props);
         } catch (const Error&) {
             throw;
         } catch (const std::exception& ex) {
