@@ -29,8 +29,9 @@
 // mixture (1/n) Σ_k pdf(wi; η(λk)) — the one-sample form of hero-wavelength MIS (Wilkie et
 // al. 2014). With the hero's pdf alone, a narrow lobe (α ≲ 0.01 with bk7) put each
 // secondary's f in a cone the hero's directions almost never reach: unbiased but so
-// heavy-tailed that 64 spp lost a quarter of the transmitted light; with the mixture,
-// f(λk)·cos/pdf ≤ n × the hero's bound. A flat index gives n = 1, as before.
+// heavy-tailed that at 64 spp a bk7 object at α = 1e-4 rendered ~24 % too dark against
+// Mitsuba; with the mixture, f(λk)·cos/pdf ≤ n × the hero's bound. A flat index gives
+// n = 1, as before.
 //
 // Parameters (as Mitsuba 3):
 //   distribution            string  beckmann (default) | ggx
