@@ -12,6 +12,13 @@
 //   to_world                 transform  camera-to-world; lookat plus a scale for the extent
 //   film, sampler            nested  default: hdrfilm and independent
 //
+// Light tracers (ptracer) connect to it through ICameraImportance: a scene point projects
+// along the viewing axis onto the near plane. The importance is a delta in direction and
+// uniform over the film rectangle, so the connection carries 1 / (film area seen across
+// the viewing direction), with no 1/dist² falloff — the camera counterpart of a
+// directional light (Mitsuba 3's orthographic sample_direction; Veach 1997, §8.1).
+// Directions toward infinite lights cannot connect to it (probability zero).
+//
 // Reference: Mitsuba 3 documentation, "Orthographic camera (orthographic)";
 // M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed., §5.1.
 #include "projection.hpp"
@@ -39,8 +46,15 @@ public:
         if (!(std::abs(det) > 0.f) || !std::isfinite(det) || !(length(dir) > 0.f))
             failAt(p.whereOf("to_world"), "{}: 'to_world' must be invertible (it maps the film to a plane)", p.describe());
         m_dir = normalize(dir);
+        m_zScale = length(dir);
         m_filmSize = camera::filmSize(p, *m_film);
         m_half = Vector2f(1.f, m_filmSize.y / m_filmSize.x);  // Mitsuba: x spans [-1, 1]
+        // World area of the film rectangle projected across the viewing direction (to_world
+        // may scale and shear it): the importance is spread uniformly over it.
+        Vector3f n = cross(m_toWorld.vector(Vector3f(1.f, 0.f, 0.f)), m_toWorld.vector(Vector3f(0.f, 1.f, 0.f)));
+        m_area = 4.f * m_half.x * m_half.y * std::abs(dot(n, m_dir));
+        if (!(m_area > 0.f) || !std::isfinite(m_area))
+            failAt(p.whereOf("to_world"), "{}: 'to_world' maps the film to a degenerate rectangle", p.describe());
     }
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
@@ -56,9 +70,29 @@ public:
         return ray;
     }
 
+    /// The inverse of generateRay: project ref along the viewing axis onto the near plane.
+    /// The importance is δ(ω − d) / area per unit area perpendicular to d, so the
+    /// connection's weight is 1 / area (deltaDirection; Veach 1997, §8.1).
+    bool sampleDirection(const Point3f& ref, const Point2f&, CameraImportanceSample& out) const override {
+        out = CameraImportanceSample{};
+        Point3f local = m_toLocal.point(ref);
+        // generateRay's rays run a world length far − near from the near plane.
+        float dist = (local.z - m_near) * m_zScale;
+        if (!(dist >= 0.f && dist <= m_far - m_near)) return false;
+        if (!camera::filmPosition(Vector2f(local.x, local.y), m_filmSize, m_half, out.pFilm)) return false;
+        out.pCamera = m_toWorld.point(Point3f(local.x, local.y, m_near));
+        out.wi = -m_dir;
+        out.dist = dist;
+        out.weight = 1.f / m_area;
+        out.pdf = 1.f;
+        out.deltaDirection = true;
+        return true;
+    }
+
 private:
     Vector2f m_filmSize{1.f}, m_half{1.f};
     Vector3f m_dir{0.f, 0.f, 1.f};
+    float m_zScale = 1.f, m_area = 1.f;
 };
 
 } // namespace

@@ -8,6 +8,7 @@
 // with a thin lens", "Orthographic camera"; PBRT 4th ed., §5.1–5.2.
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/icamera.hpp"
+#include "effigi/interfaces/icamera_importance.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/isampler.hpp"
 
@@ -122,10 +123,20 @@ inline Vector3f imagePlanePoint(const Point2f& pFilm, const Vector2f& size, cons
     return {(1.f - 2.f * q.x) * half.x, (1.f - 2.f * q.y) * half.y, 1.f};
 }
 
+/// The inverse of imagePlanePoint: the film position (pixels) of the camera-space plane
+/// point (x, y) at z = 1. False when it falls outside the full film.
+inline bool filmPosition(const Vector2f& plane, const Vector2f& size, const Vector2f& half, Point2f& pFilm,
+                         const Vector2f& offset = Vector2f(0.f)) {
+    Point2f q = 0.5f * (Vector2f(1.f) - plane / half) - offset;
+    pFilm = q * size;
+    return q.x >= 0.f && q.x <= 1.f && q.y >= 0.f && q.y <= 1.f;
+}
+
 /// Base of the projective cameras: the state every one of them has (to_world, the nested
 /// film and sampler, the clip planes, checked by readClip) and the ICamera accessors to it.
-/// Derived cameras check to_world their own way and add generateRay.
-class ProjectiveCamera : public Implements<ICamera> {
+/// Derived cameras check to_world their own way and add generateRay and the light
+/// tracers' connection (ICameraImportance::sampleDirection, the inverse of generateRay).
+class ProjectiveCamera : public Implements<ICamera, ICameraImportance> {
 public:
     const Transform& toWorld() const override { return m_toWorld; }
     IFilm& film() const override { return *m_film; }
@@ -137,9 +148,10 @@ protected:
           m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
           m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")) {
         readClip(p, m_near, m_far);
+        m_toLocal = m_toWorld.inverse();  // non-finite for a singular to_world, which derived cameras reject
     }
 
-    Transform m_toWorld;
+    Transform m_toWorld, m_toLocal;
     Ref<IFilm> m_film;
     Ref<ISampler> m_sampler;
     float m_near = 1e-2f, m_far = 1e4f;

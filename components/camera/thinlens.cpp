@@ -17,6 +17,12 @@
 //   to_world                 transform  camera-to-world (use lookat); no scaling
 //   film, sampler            nested  default: hdrfilm and independent
 //
+// Light tracers (ptracer) connect to it through ICameraImportance: the lens sample picks
+// a point on the aperture and the scene point projects through it, via the plane in
+// focus, to the film. The importance is uniform over the aperture and, from each lens
+// point, over the image plane: W_e = 1 / (π r² · A cos⁴θ) (pbrt-v4's
+// ThinLens/PerspectiveCamera::We, Mitsuba's thinlens importance()).
+//
 // Reference: M. Pharr, W. Jakob, G. Humphreys, Physically Based Rendering, 4th ed.,
 // §5.2.3 (the thin lens model); R. L. Cook, T. Porter, L. Carpenter, "Distributed Ray
 // Tracing", SIGGRAPH 1984; Mitsuba 3 documentation, "Perspective camera with a thin lens".
@@ -57,6 +63,7 @@ public:
                    m_focus);
         m_filmSize = camera::filmSize(p, *m_film);
         m_tanHalf = camera::imagePlaneHalfExtent(p, m_filmSize);
+        m_area = 4.f * m_tanHalf.x * m_tanHalf.y;
     }
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
@@ -76,8 +83,37 @@ public:
         return ray;
     }
 
+    /// The inverse of generateRay for the lens point of sample u: the ray from that lens
+    /// point through ref meets the plane in focus at the point that names the film
+    /// position. Importance over the lens density: W_e cosθ / dist² · π r² =
+    /// 1 / (A cos³θ dist²), the aperture area cancelling (so aperture 0 is the pinhole).
+    bool sampleDirection(const Point3f& ref, const Point2f& u, CameraImportanceSample& out) const override {
+        out = CameraImportanceSample{};
+        Point3f local = m_toLocal.point(ref);
+        if (!(local.z >= m_near && local.z <= m_far)) return false;  // generateRay's clip slab
+        Point2f lens = m_aperture * warp::squareToUniformDiskConcentric(u);
+        Vector3f lensPoint(lens.x, lens.y, 0.f);
+        Vector3f d = Vector3f(local) - lensPoint;  // d.z = local.z > 0
+        // Where the line meets z = focus, divided by focus: on the image plane z = 1.
+        Vector2f plane = Vector2f(lens.x, lens.y) / m_focus + Vector2f(d.x, d.y) / d.z;
+        if (!camera::filmPosition(plane, m_filmSize, m_tanHalf, out.pFilm)) return false;
+        float dist = length(d);
+        float cosTheta = d.z / dist;
+        out.pCamera = m_toWorld.point(Point3f(lensPoint));
+        out.wi = normalize(m_toWorld.vector(-d));
+        out.dist = dist;
+        // The lens density 1 / (π r²) is folded into weight (pdf 1), as ptracer divides by pdf.
+        out.weight = 1.f / (m_area * cosTheta * cosTheta * cosTheta * dist * dist);
+        out.pdf = 1.f;
+        if (!std::isfinite(out.weight)) {
+            out = CameraImportanceSample{};
+            return false;
+        }
+        return true;
+    }
+
 private:
-    float m_aperture = 0.f, m_focus = 1e4f;
+    float m_aperture = 0.f, m_focus = 1e4f, m_area = 4.f;
     Vector2f m_filmSize{1.f}, m_tanHalf{1.f};
 };
 

@@ -19,7 +19,8 @@
 // lighting, as in Mitsuba), rr_depth (Russian roulette from that depth on),
 // hide_emitters, samples_per_pass (spp is rendered in passes of this many samples; must
 // divide the sampler's sample count, as Mitsuba requires).
-// Needs a camera implementing ICameraImportance (perspective); others are an error.
+// Needs a camera implementing ICameraImportance (perspective, thinlens, orthographic);
+// others are an error.
 // Reference: Veach 1997, PhD thesis, §4.A, §5.3, §8.1; Mitsuba 3 src/integrators/ptracer.cpp.
 #include "effigi/core/progress.hpp"
 #include "effigi/core/registry.hpp"
@@ -84,8 +85,10 @@ private:
             // The importance toward a point at distance R falls as 1/R²; R² restores the
             // importance per solid angle that arriving radiance needs.
             const float R = m_farDistance;
-            if (!m_camera.sampleDirection(cam + es.wi * R, uCam, cs)) return;
-            if (m_scene.occluded(Ray{cam, es.wi, Infinity})) return;
+            // A camera with a delta direction (orthographic) sees no sampled direction.
+            if (!m_camera.sampleDirection(cam + es.wi * R, uCam, cs) || cs.deltaDirection) return;
+            // From the lens point the connection chose (a thin lens has more than one).
+            if (m_scene.occluded(Ray{cs.pCamera, -cs.wi, Infinity})) return;
             splat(cs.pFilm, es.L * (cs.weight * R * R / (es.pdf * selPdf * cs.pdf)), lambda, block, ts);
             return;
         }
@@ -232,7 +235,7 @@ RenderStats ParticleTracerRenderer::render(const Scene& scene, const RenderContr
     const auto* importance = query<ICameraImportance>(&camera);
     if (!importance)
         fail("{}: renderer 'ptracer': the camera cannot be connected to from the scene (no ICameraImportance; "
-             "use a perspective camera)",
+             "use a perspective, thinlens or orthographic camera)",
              scene.sourceFile);
     if (!control.accumulate) film.prepare({"X", "Y", "Z"});
     RenderStats stats;

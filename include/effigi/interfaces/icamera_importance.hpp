@@ -25,7 +25,14 @@ struct CameraImportanceSample {
     /// Importance arriving at the scene point divided by the sampling density: for a
     /// pinhole W_e(−wi) / dist² (pdf = 1, the camera position being a delta).
     float weight = 0.f;
-    float pdf = 0.f;     ///< density of choosing pCamera (1 for a pinhole); 0: no connection
+    /// Density of choosing pCamera (1 for a pinhole; 0: no connection). Renderers use
+    /// weight / pdf; a thin lens folds its uniform lens density into weight and gives 1.
+    float pdf = 0.f;
+    /// True for a camera whose importance is a delta in DIRECTION (orthographic): weight
+    /// is then importance per unit area perpendicular to wi (no 1/dist² falloff), like a
+    /// directional light's irradiance, and only points can connect to it, not directions
+    /// (a direction sampled toward an infinite light never matches the camera's).
+    bool deltaDirection = false;
 };
 
 class ICameraImportance : public virtual IComponent {
