@@ -13,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -45,15 +46,18 @@ void regionStats(int w, int h, const Region& r, int c, const At& at, const std::
 /// Renders `scene` (relative to the source tree) with `defines` and checks every region's
 /// R, G, B means against `reference`: |ours − ref| / ref < margin + 4 standard errors
 /// (two-sided false alarm 6e-5 per comparison; the render is seeded, so the outcome is
-/// deterministic). The reference's own noise (4096 spp) is negligible.
+/// deterministic). The reference's own noise (4096 spp) is negligible. `maxTol` bounds the
+/// relative tolerance so the comparison stays sharp; `seed` is the render's seed.
 inline void compareWithReference(const std::string& scene, const std::string& reference,
                                  const std::vector<std::pair<std::string, std::string>>& defines,
-                                 const std::vector<Region>& regions, double margin) {
+                                 const std::vector<Region>& regions, double margin, double maxTol = 0.08,
+                                 std::uint64_t seed = 0) {
     xml::ParseOptions opt;
     for (const auto& [k, v] : defines) opt.defines[k] = v;
     auto s = loadSceneFile(std::string(EFFIGI_SOURCE_DIR) + "/" + scene, opt);
     RenderControl control;
     control.progress = false;
+    control.seed = seed;
     RenderStats stats = s->renderer().render(*s, control);
     CHECK(stats.rejectedSamples == 0);
     Image img = s->camera().film().develop();
@@ -71,7 +75,7 @@ inline void compareWithReference(const std::string& scene, const std::string& re
             INFO(scene << " " << r.name << " channel " << c << ": effigi " << a << " ± " << se << ", mitsuba " << b
                        << ", relative " << rel << ", tolerance " << tol);
             CHECK(std::abs(rel) < tol);
-            CHECK(tol < 0.08);  // sharp enough to catch a real error (a missing term is > 10 %)
+            CHECK(tol < maxTol);  // sharp enough to catch a real error (a missing term is > 10 %)
         }
 }
 

@@ -8,6 +8,7 @@
 // scenes use a box filter: pixels are independent.
 #include "bsdf_extra_helpers.hpp"
 #include "image_helpers.hpp"
+#include "reference_regions.hpp"
 #include "../components/bsdf/principled_lobes.hpp"
 
 #include "effigi/core/error.hpp"
@@ -28,51 +29,17 @@ using namespace effigi::test;
 
 namespace {
 
-/// A pixel box (fractions of the image) whose mean is compared with Mitsuba's.
-struct Box {
-    const char* name;
-    float x0, y0, x1, y1;
-};
-
 /// Renders `scene` (tests/data/bsdf_extra) at `spp`, seeded, and compares each box's
-/// mean per channel with the Mitsuba 3 reference `reference`. Tolerance: 2 % systematic
-/// (RGB upsampling; effigi's height-correlated masking against Mitsuba's separable one;
-/// the tint luminance) plus 4 standard errors of our mean from the renderer's own
-/// per-pixel variance (box filter: independent pixels; two-sided false alarm 6e-5 per
-/// check). The 4096-spp reference's noise is negligible.
-void compareWithMitsuba(const std::string& scene, const std::string& reference, const std::vector<Box>& boxes,
+/// mean per channel with the Mitsuba 3 reference `reference` (reference_regions.hpp).
+/// Tolerance: 2 % systematic (RGB upsampling; effigi's height-correlated masking against
+/// Mitsuba's separable one; the tint luminance) plus 4 standard errors of our mean from
+/// the renderer's own per-pixel variance (box filter: independent pixels; two-sided false
+/// alarm 6e-5 per check). The 4096-spp reference's noise is negligible. The tolerance
+/// must stay below 7 % (4 standard errors below 5 %) to catch real errors.
+void compareWithMitsuba(const std::string& scene, const std::string& reference, const std::vector<Region>& boxes,
                         int spp) {
-    xml::ParseOptions opt;
-    opt.defines = {{"spp", std::to_string(spp)}};
-    auto sc = loadSceneFile(std::string(EFFIGI_SOURCE_DIR "/tests/data/bsdf_extra/") + scene, opt);
-    RenderControl control;
-    control.progress = false;
-    control.seed = 3;
-    RenderStats stats = sc->renderer().render(*sc, control);
-    CHECK(stats.rejectedSamples == 0);
-    Image img = sc->camera().film().develop();
-    std::vector<float> variance;
-    REQUIRE(sc->renderer().varianceEstimate(variance));
-    test::ExrImage ref = test::readExr(std::string(EFFIGI_SOURCE_DIR "/tests/data/bsdf_extra/") + reference);
-    REQUIRE(ref.spec.width == img.width);
-    REQUIRE(ref.spec.height == img.height);
-    for (const Box& b : boxes)
-        for (int c = 0; c < 3; ++c) {
-            int x0 = int(b.x0 * img.width), x1 = int(b.x1 * img.width), y0 = int(b.y0 * img.height),
-                y1 = int(b.y1 * img.height);
-            double sum = 0.0, sumRef = 0.0, var = 0.0;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    sum += img.at(x, y, c);
-                    sumRef += ref.at(x, y, c);
-                    var += variance[(std::size_t(y) * img.width + x) * 3 + c];
-                }
-            double n = double(x1 - x0) * (y1 - y0), mean = sum / n, mref = sumRef / n, se = std::sqrt(var) / n;
-            INFO(scene << ", " << b.name << ", channel " << c << ": effigi " << mean << " ± " << se << ", mitsuba "
-                       << mref);
-            CHECK(std::abs(mean - mref) < 0.02 * mref + 4.0 * se);
-            CHECK(4.0 * se < 0.05 * mref);  // sharp enough to catch real errors
-        }
+    compareWithReference("tests/data/bsdf_extra/" + scene, "tests/data/bsdf_extra/" + reference,
+                         {{"spp", std::to_string(spp)}}, boxes, 0.02, 0.07, 3);
 }
 
 } // namespace

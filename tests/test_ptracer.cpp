@@ -12,6 +12,7 @@
 //           $EFFIGI_MITSUBA_CORPUS/tests/scenes/various_emitters/test_various_emitters_ptracer.xml
 //           tests/data/ptracer/various_emitters-128x16-mitsuba.exr --spp 8192 -D resx=128 -D resy=16
 #include "image_helpers.hpp"
+#include "skip.hpp"
 
 #include "effigi/core/error.hpp"
 #include "effigi/interfaces/icamera_importance.hpp"
@@ -230,8 +231,7 @@ TEST_CASE("ptracer: agrees with Mitsuba 3's ptracer on the test scene", "[render
 TEST_CASE("ptracer: the Mitsuba corpus scene renders and agrees with Mitsuba 3", "[render][ptracer]") {
     const std::string CorpusScene = corpusScene();
     if (CorpusScene.empty() || !std::filesystem::exists(CorpusScene)) {
-        WARN("EFFIGI_MITSUBA_CORPUS does not name a Mitsuba corpus checkout: corpus check skipped");
-        return;
+        return test::skipTest("EFFIGI_MITSUBA_CORPUS does not name a Mitsuba corpus checkout");
     }
     test::ExrImage ref =
         test::readExr(EFFIGI_SOURCE_DIR "/tests/data/ptracer/various_emitters-128x16-mitsuba.exr");

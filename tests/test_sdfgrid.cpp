@@ -2,6 +2,7 @@
 // with the sphere within the trilinear interpolation error (hits, misses, rays from inside,
 // normals, area), bad files give one-line errors, and a small scene agrees with Mitsuba 3.
 #include "image_helpers.hpp"
+#include "reference_regions.hpp"
 #include "shape_helpers.hpp"
 
 #include "effigi/interfaces/icamera.hpp"
@@ -353,42 +354,13 @@ TEST_CASE("sdfgrid: hit distances and normals agree with Mitsuba's, ray by ray",
 // 4 standard errors of effigi's mean from its own per-pixel variance (two-sided false
 // alarm about 6e-5 per check); the reference's noise is 8x smaller.
 TEST_CASE("sdfgrid: a small scene agrees with Mitsuba 3", "[sdfgrid][e2e]") {
-    const std::string dir = EFFIGI_SOURCE_DIR "/tests/data/sdfgrid/";
-    xml::ParseOptions opt;
-    opt.defines = {{"spp", "64"}};
-    auto sc = loadSceneFile(dir + "sdfgrid.xml", opt);
-    RenderControl control;
-    control.progress = false;
-    control.seed = 5;
-    RenderStats stats = sc->renderer().render(*sc, control);
-    CHECK(stats.rejectedSamples == 0);
-    Image img = sc->camera().film().develop();
-    std::vector<float> variance;
-    REQUIRE(sc->renderer().varianceEstimate(variance));
-    test::ExrImage ref = test::readExr(dir + "sdfgrid-mitsuba.exr");
-    REQUIRE(ref.spec.width == img.width);
-    REQUIRE(ref.spec.height == img.height);
-    struct Box {
-        const char* name;
-        float x0, y0, x1, y1;
-    };
     // Boxes in image fractions: the near (analytic) grid on the left, the far (smooth) one, the
-    // floor with their shadows, and the whole image.
-    for (const Box& b : {Box{"analytic grid (near)", 0.05f, 0.30f, 0.40f, 0.62f}, Box{"smooth grid (far)", 0.62f, 0.28f, 0.95f, 0.62f},
-                         Box{"shadows", 0.05f, 0.62f, 0.95f, 0.85f}, Box{"all", 0.f, 0.f, 1.f, 1.f}})
-        for (int c = 0; c < 3; ++c) {
-            int x0 = int(b.x0 * img.width), x1 = int(b.x1 * img.width), y0 = int(b.y0 * img.height),
-                y1 = int(b.y1 * img.height);
-            double sum = 0.0, sumRef = 0.0, var = 0.0;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    sum += img.at(x, y, c);
-                    sumRef += ref.at(x, y, c);
-                    var += variance[(std::size_t(y) * img.width + x) * 3 + c];
-                }
-            double n = double(x1 - x0) * (y1 - y0), mean = sum / n, mref = sumRef / n, se = std::sqrt(var) / n;
-            INFO(b.name << ", channel " << c << ": effigi " << mean << " ± " << se << ", mitsuba " << mref);
-            CHECK(std::abs(mean - mref) < 0.02 * mref + 4.0 * se);
-            CHECK(4.0 * se < 0.05 * mref);  // sharp enough to catch real errors
-        }
+    // floor with their shadows, and the whole image. The tolerance must stay below 7 % (4
+    // standard errors below 5 %) to catch real errors.
+    test::compareWithReference("tests/data/sdfgrid/sdfgrid.xml", "tests/data/sdfgrid/sdfgrid-mitsuba.exr", {{"spp", "64"}},
+                         {{"analytic grid (near)", 0.05f, 0.30f, 0.40f, 0.62f},
+                          {"smooth grid (far)", 0.62f, 0.28f, 0.95f, 0.62f},
+                          {"shadows", 0.05f, 0.62f, 0.95f, 0.85f},
+                          {"all", 0.f, 0.f, 1.f, 1.f}},
+                         0.02, 0.07, 5);
 }

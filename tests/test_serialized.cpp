@@ -4,6 +4,7 @@
 // seek to any mesh through the end-of-file dictionary, and turn every kind of damage
 // into one error line naming the file.
 #include "shape_helpers.hpp"
+#include "skip.hpp"
 #include "temp_files.hpp"
 
 #include <cstring>
@@ -222,8 +223,7 @@ TEST_CASE("serialized: the Mitsuba corpus meshes load", "[shapes][serialized]") 
     const fs::path rect = corpus / "tests/serialized/rectangle_normals_uv.serialized";
     const fs::path mat = corpus / "scenes/matpreview/matpreview.serialized";
     if (!fs::exists(rect) || !fs::exists(mat)) {
-        WARN("EFFIGI_MITSUBA_CORPUS does not name a Mitsuba corpus checkout: corpus check skipped");
-        return;
+        return test::skipTest("EFFIGI_MITSUBA_CORPUS does not name a Mitsuba corpus checkout");
     }
     // Expected values: what Mitsuba 3.9.1 (scalar_rgb) reports for the same files.
     for (const char* name : {"rectangle_normals_uv", "rectangle_normals", "rectangle_uv"}) {

@@ -87,7 +87,8 @@ public:
     }
 
     SampledSpectrum evalNullTransmission(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
-        return m_bsdf->evalNullTransmission(si, lambda) * opacity(si) + SampledSpectrum(1.f - opacity(si));
+        float a = opacity(si);
+        return m_bsdf->evalNullTransmission(si, lambda) * a + SampledSpectrum(1.f - a);
     }
 
 private:

@@ -50,6 +50,18 @@ inline MicrofacetDistribution readMicrofacet(const Properties& p) {
     return {microfacetType(p), p.getFloat(u), p.getFloat(v)};
 }
 
+/// The half vector of a reflection pair, both directions above the surface (the rough
+/// reflectors: roughconductor, roughplastic); false unless both lie on h's front. In
+/// double, where the sum of two nearly opposite unit vectors keeps its digits.
+inline bool reflectionHalfVector(const Vector3f& wo, const Vector3f& wi, Vector3f& h) {
+    if (!(wo.z > 0.f && wi.z > 0.f)) return false;
+    Vector3d s = Vector3d(wo) + Vector3d(wi);
+    double len = glm::length(s);
+    if (!(len > 0.0)) return false;
+    h = Vector3f(s / len);
+    return h.z > 0.f && dot(wo, h) > 0.f && dot(wi, h) > 0.f;
+}
+
 /// Roughness that may vary over the surface (declared with textured = true). Constant
 /// alphas — the usual case — are read once into a fixed distribution, so a lookup
 /// costs one predictable branch and no texture call.

@@ -81,7 +81,7 @@ public:
         if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
         double n = exponent(si), c = cosToMirror(wo, wi);
         double glossy = c > 0.0 ? (n + 1.0) * Inv2Pi * std::pow(c, n) : 0.0;
-        return float(m_specularWeight * glossy + (1.0 - m_specularWeight) * wi.z * InvPi);
+        return float(m_specularWeight * glossy + (1.0 - m_specularWeight) * warp::squareToCosineHemispherePdf(wi));
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f& u,

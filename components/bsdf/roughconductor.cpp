@@ -86,7 +86,7 @@ public:
     SampledSpectrum f(const SurfaceInteraction& si, const Vector3f& wo, const Vector3f& wi,
                       const SampledWavelengths& lambda, TransportMode) const override {
         Vector3f h;
-        if (!halfVector(wo, wi, h)) return SampledSpectrum(0.f);
+        if (!reflectionHalfVector(wo, wi, h)) return SampledSpectrum(0.f);
         const MicrofacetDistribution dist = m_mf.at(si);
         float D = dist.D(h), G = dist.G(wo, wi);
         if (D == 0.f || G == 0.f) return SampledSpectrum(0.f);
@@ -100,7 +100,7 @@ public:
     float pdf(const SurfaceInteraction& si, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
         Vector3f h;
-        if (!halfVector(wo, wi, h)) return 0.f;
+        if (!reflectionHalfVector(wo, wi, h)) return 0.f;
         const MicrofacetDistribution dist = m_mf.at(si);
         // Reflection maps m to wi with |dωi / dωm| = 4 (wo·m) (Walter 2007, eq. 14).
         float pm = m_sampleVisible ? dist.visiblePdf(wo, h) : dist.normalPdf(h);
@@ -126,17 +126,6 @@ public:
     }
 
 private:
-    /// The half vector of a reflection pair, both directions above the surface; computed
-    /// in double, where the sum of two nearly opposite unit vectors keeps its digits.
-    static bool halfVector(const Vector3f& wo, const Vector3f& wi, Vector3f& h) {
-        if (!(wo.z > 0.f && wi.z > 0.f)) return false;
-        Vector3d s = Vector3d(wo) + Vector3d(wi);
-        double len = glm::length(s);
-        if (!(len > 0.0)) return false;
-        h = Vector3f(s / len);
-        return h.z > 0.f && dot(wo, h) > 0.f && dot(wi, h) > 0.f;
-    }
-
     MicrofacetParams m_mf;  // the roughness, constant or textured
     bool m_sampleVisible;
     Ref<ITexture> m_reflectance, m_eta, m_k;

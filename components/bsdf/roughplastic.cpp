@@ -87,7 +87,7 @@ public:
                       const SampledWavelengths& lambda, TransportMode) const override {
         if (!(wo.z > 0.f && wi.z > 0.f)) return SampledSpectrum(0.f);
         SampledSpectrum value = m_params.substrate(si, lambda, transmittance(wo.z), transmittance(wi.z), m_rInt);
-        if (Vector3f h; halfVector(wo, wi, h)) {
+        if (Vector3f h; reflectionHalfVector(wo, wi, h)) {
             float D = m_dist.D(h), G = m_dist.G(wo, wi);
             if (D > 0.f && G > 0.f) {
                 // In double: at α = 1e-4 and grazing, D / cos² alone leaves float range.
@@ -103,7 +103,7 @@ public:
         if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
         float pSpecular = m_params.specularProbability(transmittance(wo.z));
         double pdf = (1.0 - pSpecular) * warp::squareToCosineHemispherePdf(wi);
-        if (Vector3f h; halfVector(wo, wi, h)) {
+        if (Vector3f h; reflectionHalfVector(wo, wi, h)) {
             // Reflection maps m to wi with |dωi / dωm| = 4 (wo·m) (Walter 2007, eq. 14).
             float pm = m_sampleVisible ? m_dist.visiblePdf(wo, h) : m_dist.normalPdf(h);
             pdf += pSpecular * double(pm) / (4.0 * dot(wo, h));
@@ -175,15 +175,6 @@ private:
         float x = std::clamp(cosTheta, 0.f, 1.f) * (TableSize - 1);
         int i = std::min(int(x), TableSize - 2);
         return lerp(x - float(i), m_table[i], m_table[i + 1]);
-    }
-
-    /// The half vector of a reflection pair above the surface, in double (as roughconductor).
-    static bool halfVector(const Vector3f& wo, const Vector3f& wi, Vector3f& h) {
-        Vector3d s = Vector3d(wo) + Vector3d(wi);
-        double len = glm::length(s);
-        if (!(len > 0.0)) return false;
-        h = Vector3f(s / len);
-        return h.z > 0.f && dot(wo, h) > 0.f && dot(wi, h) > 0.f;
     }
 
     PlasticParams m_params;

@@ -28,9 +28,7 @@
 namespace effigi {
 namespace {
 
-using camera::nestedOrDefault;
-
-class PerspectiveCamera final : public Implements<ICamera, ICameraImportance> {
+class PerspectiveCamera final : public camera::ProjectiveCamera {
 public:
     static Schema schema() {
         Schema s("camera", "perspective", "Pinhole camera with a perspective projection (Mitsuba's `perspective`).");
@@ -49,17 +47,13 @@ public:
         return s;
     }
 
-    explicit PerspectiveCamera(const Properties& p)
-        : m_toWorld(p.getTransform("to_world")),
-          m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
-          m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")) {
-        camera::readClip(p, m_near, m_far);
+    explicit PerspectiveCamera(const Properties& p) : ProjectiveCamera(p) {
         camera::requireRigid(p, m_toWorld);
         m_offset = Vector2f(p.getFloat("principal_point_offset_x"), p.getFloat("principal_point_offset_y"));
         m_filmSize = camera::filmSize(p, *m_film);
         m_tanHalf = camera::imagePlaneHalfExtent(p, m_filmSize);
         m_origin = m_toWorld.point(Point3f(0.f));
-        m_toLocal = m_toWorld.inverse();
+        m_area = 4.f * m_tanHalf.x * m_tanHalf.y;
     }
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
@@ -83,29 +77,19 @@ public:
         Point3f local = m_toLocal.point(ref);
         if (!(local.z >= m_near && local.z <= m_far)) return false;  // Mitsuba's clip test
         Vector2f plane(local.x / local.z, local.y / local.z);
-        Point2f q = 0.5f * (Vector2f(1.f) - plane / m_tanHalf) - m_offset;
-        if (!(q.x >= 0.f && q.x <= 1.f && q.y >= 0.f && q.y <= 1.f)) return false;
+        if (!camera::filmPosition(plane, m_filmSize, m_tanHalf, out.pFilm, m_offset)) return false;
         float dist = length(Vector3f(local));
         float cosTheta = local.z / dist;
-        float area = 4.f * m_tanHalf.x * m_tanHalf.y;
-        out.pFilm = q * m_filmSize;
         out.pCamera = m_origin;
         out.wi = (m_origin - ref) / dist;
         out.dist = dist;
-        out.weight = 1.f / (area * cosTheta * cosTheta * cosTheta * dist * dist);
+        out.weight = 1.f / (m_area * cosTheta * cosTheta * cosTheta * dist * dist);
         out.pdf = 1.f;
         return std::isfinite(out.weight);
     }
 
-    const Transform& toWorld() const override { return m_toWorld; }
-    IFilm& film() const override { return *m_film; }
-    ISampler& sampler() const override { return *m_sampler; }
-
 private:
-    Transform m_toWorld, m_toLocal;
-    Ref<IFilm> m_film;
-    Ref<ISampler> m_sampler;
-    float m_near = 1e-2f, m_far = 1e4f;
+    float m_area = 4.f;  // of the image plane z = 1
     Vector2f m_offset{0.f}, m_filmSize{1.f}, m_tanHalf{1.f};
     Point3f m_origin{0.f};
 };

@@ -16,6 +16,7 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/math/warp_functions.hpp"
+#include "effigi/render/scene_sphere.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
@@ -45,22 +46,14 @@ public:
 
     std::uint32_t flags() const override { return EmitterInfinite; }
 
-    void preprocess(const BBox3f& bounds) override {
-        if (bounds.valid() && isFinite(bounds.min) && isFinite(bounds.max)) {
-            m_center = bounds.center();
-            m_radius = bounds.boundingRadius();
-        }
-        // A scene of one point (or none) still needs a sphere to aim emission at.
-        if (!(m_radius > 0.f) || !std::isfinite(m_radius))
-            m_radius = std::max(1.f, 1e-3f * maxAbsComponent(m_center));
-    }
+    void preprocess(const BBox3f& bounds) override { m_sphere = SceneSphere::around(bounds); }
 
     EmitterSample sampleDirect(const Point3f& ref, const Point2f& u, const SampledWavelengths& lambda) const override {
         EmitterSample es;
         es.wi = warp::squareToUniformSphere(u);
         // A stand-in point beyond the bounding sphere, for callers that trace a shadow
         // ray to es.p: everything in the scene lies closer than it.
-        es.p = ref + es.wi * (2.f * m_radius + length(ref - m_center));
+        es.p = m_sphere.beyond(ref, es.wi);
         es.n = -es.wi;
         es.dist = Infinity;
         es.pdf = warp::squareToUniformSpherePdf(es.wi);
@@ -76,17 +69,13 @@ public:
 
     EmissionSample sampleEmission(const Point2f& uPos, const Point2f& uDir,
                                   const SampledWavelengths& lambda) const override {
-        // Direction of travel uniform on the sphere; the origin uniform on the disk of
-        // the bounding sphere's radius, perpendicular to it, one radius behind the centre:
-        // every point of that disk lies on or outside the sphere.
+        // Direction of travel uniform on the sphere; the origin uniform on a disk outside
+        // the bounding sphere (SceneSphere::parallelRay).
         EmissionSample es;
         Vector3f d = warp::squareToUniformSphere(uDir);
-        Point2f disk = warp::squareToUniformDiskConcentric(uPos);
-        Frame frame(d);
-        Point3f o = m_center + m_radius * (frame.toWorld(Vector3f(disk.x, disk.y, 0.f)) - d);
-        es.ray = Ray{o, d, Infinity};
+        es.ray = m_sphere.parallelRay(d, uPos);
         es.n = d;
-        es.pdfPosition = 1.f / (Pi * m_radius * m_radius);
+        es.pdfPosition = 1.f / m_sphere.area();
         es.pdfDirection = Inv4Pi;
         es.L = m_radiance.sample(lambda);
         return es;
@@ -94,13 +83,12 @@ public:
 
     /// Power through the scene's cross-section: π r² · 4π · L (an estimate; only used
     /// to weigh lights against each other).
-    float power() const override { return Pi * m_radius * m_radius * 4.f * Pi * m_luminance; }
+    float power() const override { return m_sphere.area() * 4.f * Pi * m_luminance; }
 
 private:
     Spectrum m_radiance;
     float m_luminance = 0.f;
-    Point3f m_center{0.f};
-    float m_radius = 1.f;
+    SceneSphere m_sphere;
 };
 
 } // namespace

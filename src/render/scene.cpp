@@ -1,6 +1,6 @@
 #include "effigi/render/scene.hpp"
 
-#include <algorithm>
+#include <unordered_set>
 
 #include "effigi/core/error.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
@@ -24,9 +24,8 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
     // A top-level emitter that a shape references (Mitsuba's <emitter id="x"/> ... <ref
     // id="x"/> inside a shape) is that shape's emitter: listing it twice would double its
     // selection probability and break the MIS weights.
-    std::erase_if(m_emitters, [&](const Ref<IEmitter>& e) {
-        return std::find(m_emitterPtrs.begin(), m_emitterPtrs.end(), e.get()) != m_emitterPtrs.end();
-    });
+    const std::unordered_set<const IEmitter*> attached(m_emitterPtrs.begin(), m_emitterPtrs.end());
+    std::erase_if(m_emitters, [&](const Ref<IEmitter>& e) { return attached.count(e.get()) != 0; });
     for (const auto& e : m_emitters) {
         m_emitterPtrs.push_back(e.get());
         if (e->isInfinite()) m_envPtrs.push_back(e.get());

@@ -110,13 +110,14 @@ bool PixelVariance::get(std::vector<float>& variance) const {
 
 namespace {
 
-/// One pixel's integrand in primary sample space (see renderSampled). The splat buffer is
-/// the integrand's, allocated once per pixel, not per sample.
+/// One pixel's integrand in primary sample space (see renderSampled). The splat buffer
+/// belongs to the calling thread and is reused from pixel to pixel: nothing is allocated
+/// per sample or per pixel.
 class SampledIntegrand final : public Implements<IFunction> {
 public:
     SampledIntegrand(const Scene& scene, const ISampleRenderer& renderer, const SpectralBinning& bins,
-                     std::size_t extra, Point2i pixel, ImageBlock& block, TileStats& stats)
-        : m_scene(scene), m_renderer(renderer), m_bins(bins), m_values(3 + bins.count() + extra), m_pixel(pixel),
+                     std::span<float> values, Point2i pixel, ImageBlock& block, TileStats& stats)
+        : m_scene(scene), m_renderer(renderer), m_bins(bins), m_values(values), m_pixel(pixel),
           m_block(block), m_stats(stats), m_offset(scene.camera().film().cropOffset()) {}
 
     int dimension() const override { return 0; }
@@ -149,7 +150,7 @@ private:
     const Scene& m_scene;
     const ISampleRenderer& m_renderer;
     const SpectralBinning& m_bins;
-    std::vector<float> m_values;
+    std::span<float> m_values;  // X, Y, Z, spectral bins, the renderer's channels
     Point2i m_pixel;
     ImageBlock& m_block;
     TileStats& m_stats;
@@ -171,7 +172,9 @@ RenderStats renderSampled(const Scene& scene, const RenderControl& control, cons
     return renderTiles(scene, control, channels, "Rendering",
                        [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
                            TileStats& stats) {
-                           SampledIntegrand f(scene, renderer, bins, extra.size(), px, block, stats);
+                           thread_local std::vector<float> values;
+                           values.resize(3 + bins.count() + extra.size());
+                           SampledIntegrand f(scene, renderer, bins, values, px, block, stats);
                            sampler.startPixel(px);
                            variance.merge(px, integrator.integrate(f, sampler, range.first, range.count));
                        });
@@ -188,7 +191,7 @@ std::vector<NestedRenderer> nestedRenderers(const Properties& p) {
         if (!r)
             failAt(e.where,
                    "{}: nested {} ('{}') cannot be nested: it renders whole images, not single samples "
-                   "(nestable renderers: direct, moment, aov)",
+                   "(nestable renderers: path, direct, aov, moment)",
                    p.describe(), c->object->typeName(), name);
         out.push_back({std::move(name), std::move(r)});
     }
