@@ -17,6 +17,7 @@ void usage() {
                  "  render scene.xml [-o out.exr] [-D name=value]... [-t threads] [-v] [--seed N] [--no-progress]\n"
                  "         [--time seconds] [--spp N] [--target-relmse e] [--reference]   progressive\n"
                  "         [--dry-run]   load the scene (every component created), render nothing\n"
+                 "         [--stats]     rays per sample and per second by kind; time in tracing, shading, film\n"
                  "  converge scene.xml [--reference ref.exr] [--renderer a,b] [--variant \"name: k=v ...\"]...\n"
                  "         [-D name=value]... [--time seconds per configuration] [--spp N] [--out dir]\n"
                  "  list [tag]                 components known, by tag\n"

@@ -53,6 +53,32 @@ double peakMemoryMiB() {
     return double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+/// --stats: rays per sample and per second by kind, and where the threads' time went.
+void printWorkStats(const RenderStats& stats) {
+    const WorkStats& w = stats.work;
+    if (!w.kept || stats.samples == 0) {
+        std::printf("stats: renderer keeps no ray counts (path keeps them in its wavefront mode)\n");
+        return;
+    }
+    const char* names[WorkStats::RayKinds] = {"camera", "extension", "shadow"};
+    const double samples = double(stats.samples);
+    double trace = 0, rays = 0;
+    for (int k = 0; k < WorkStats::RayKinds; ++k) trace += w.traceSeconds[k], rays += double(w.rays[k]);
+    const double total = trace + w.cameraSeconds + w.shadeSeconds + w.filmSeconds;
+    auto share = [&](double s) { return total > 0 ? 100.0 * s / total : 0.0; };
+    std::printf("rays per sample: %.2f (", rays / samples);
+    for (int k = 0; k < WorkStats::RayKinds; ++k)
+        std::printf("%s%s %.2f", k ? ", " : "", names[k], double(w.rays[k]) / samples);
+    std::printf(")\nrays/s per thread in batch calls: ");
+    for (int k = 0; k < WorkStats::RayKinds; ++k)
+        std::printf("%s%s %.1f M", k ? ", " : "", names[k],
+                    w.traceSeconds[k] > 0 ? double(w.rays[k]) / w.traceSeconds[k] * 1e-6 : 0.0);
+    std::printf("\ntime (%.2f thread-s): tracing %.0f %% (camera %.0f, extension %.0f, shadow %.0f), "
+                "shading %.0f %%, camera samples %.0f %%, film %.0f %%\n",
+                total, share(trace), share(w.traceSeconds[0]), share(w.traceSeconds[1]), share(w.traceSeconds[2]),
+                share(w.shadeSeconds), share(w.cameraSeconds), share(w.filmSeconds));
+}
+
 } // namespace
 
 int render(const std::vector<std::string>& args) {
@@ -60,7 +86,7 @@ int render(const std::vector<std::string>& args) {
     xml::ParseOptions opt;
     RenderControl control;
     ProgressiveOptions prog;
-    bool verbose = false, progressive = false, reference = false, dryRun = false;
+    bool verbose = false, progressive = false, reference = false, dryRun = false, showStats = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         if (a == "-o") outPath = needValue(args, i);
@@ -79,6 +105,7 @@ int render(const std::vector<std::string>& args) {
         else if (a == "--reference") reference = true;
         else if (a == "--no-progress") control.progress = false;
         else if (a == "--dry-run") dryRun = true;
+        else if (a == "--stats") showStats = true;
         else if (!a.empty() && a[0] == '-') fail("render: unknown option '{}'", a);
         else if (scenePath.empty()) scenePath = a;
         else fail("render: more than one scene given ('{}', '{}')", scenePath, a);
@@ -143,6 +170,7 @@ int render(const std::vector<std::string>& args) {
                 stats.seconds > 0 ? double(stats.samples) / stats.seconds * 1e-6 : 0.0,
                 (unsigned long long)stats.rejectedSamples, peakMemoryMiB(),
                 stats.interrupted ? " (interrupted: partial image)" : "");
+    if (showStats) printWorkStats(stats);
     if (prog.targetRelMSE > 0.0)
         std::printf("estimated relMSE %.3g (target %.3g) reached after %.2f s at %llu spp\n", estimate,
                     prog.targetRelMSE, stats.seconds, (unsigned long long)spp);

@@ -47,6 +47,7 @@ RenderStats renderProgressive(const Scene& scene, const RenderControl& base, con
 
         totals.samples += s.samples;
         totals.rejectedSamples += s.rejectedSamples;
+        totals.work.merge(s.work);
         totals.seconds = renderSeconds;
         totals.interrupted = s.interrupted;
         report.spp += next;

@@ -21,8 +21,8 @@ namespace {
 constexpr int TileSize = 32;
 }
 
-RenderStats renderTiles(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
-                        const std::string& label, const PixelFunction& pixel) {
+RenderStats renderTileBlocks(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
+                             const std::string& label, const TileFunction& tileFn) {
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
     ISampler& sampler = camera.sampler();
@@ -59,14 +59,9 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
         Point2i offset((tile % tilesX) * TileSize, (tile / tilesX) * TileSize);
         Vector2i extent(std::min(TileSize, size.x - offset.x), std::min(TileSize, size.y - offset.y));
         ImageBlock block = film.createBlock(offset, extent);
-        // The stop request is checked per pixel so that SIGINT answers within one
-        // pixel's samples; a tile cut short is still merged.
-        std::uint64_t done = 0;
-        for (int y = offset.y; y < offset.y + extent.y && !control.stopRequested(); ++y)
-            for (int x = offset.x; x < offset.x + extent.x && !control.stopRequested(); ++x, ++done)
-                pixel({x, y}, range, *ts.sampler, block, ts.stats);
-        film.put(block);
-        progress.update(done * spp);
+        tileFn(offset, extent, range, *ts.sampler, block, ts.stats);
+        film.put(block);  // a tile cut short by a stop request is still merged
+        progress.update(std::uint64_t(extent.x) * extent.y * spp);
     });
     progress.finish();
 
@@ -74,10 +69,53 @@ RenderStats renderTiles(const Scene& scene, const RenderControl& control, const 
     for (const auto& ts : threads) {
         stats.samples += ts.stats.samples;
         stats.rejectedSamples += ts.stats.rejected;
+        stats.work.merge(ts.stats.work);
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats.interrupted = interrupted || control.stopRequested();
     return stats;
+}
+
+RenderStats renderTiles(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
+                        const std::string& label, const PixelFunction& pixel) {
+    return renderTileBlocks(scene, control, channels, label,
+                            [&](const Point2i& offset, const Vector2i& extent, SampleRange range, ISampler& sampler,
+                                ImageBlock& block, TileStats& stats) {
+                                // Checked per pixel so that SIGINT answers within one pixel's samples.
+                                for (int y = offset.y; y < offset.y + extent.y && !control.stopRequested(); ++y)
+                                    for (int x = offset.x; x < offset.x + extent.x && !control.stopRequested(); ++x)
+                                        pixel({x, y}, range, sampler, block, stats);
+                            });
+}
+
+FilmSample sampleCamera(const ICamera& camera, ISampler& sampler, const Point2i& pixel) {
+    FilmSample cs;
+    cs.lambda = SampledWavelengths::sampleVisible(sampler.get1D());
+    cs.pFilm = Point2f(pixel) + sampler.getPixel2D();
+    const Point2f offset(camera.film().cropOffset());
+    cs.ray = camera.generateRay({cs.pFilm + offset, sampler.get2D(), 0.f}, cs.lambda, cs.weight);
+    return cs;
+}
+
+SampleSplatter::SampleSplatter(const SpectralBinning& bins, std::size_t extraChannels)
+    : m_bins(bins), m_binCount(std::size_t(bins.count())), m_values(3 + m_binCount + extraChannels, 0.f) {}
+
+Vector3f SampleSplatter::put(ImageBlock& block, const Point2f& pFilm, const SampledSpectrum& L,
+                             const SampledWavelengths& lambda, TileStats& stats) {
+    float* v = m_values.data();
+    Vector3f xyz = cie::toXYZ(L, lambda);
+    bool finite = isFinite(xyz) && m_bins.estimate(L, lambda, v + 3);
+    for (float* c = extra(); finite && c != v + m_values.size(); ++c) finite = std::isfinite(*c);
+    if (!finite) {  // keep NaN/Inf off the film, every channel of the sample; counted
+        ++stats.rejected;
+        xyz = Vector3f(0.f);
+        std::fill(m_values.begin(), m_values.end(), 0.f);
+    }
+    v[0] = xyz.x, v[1] = xyz.y, v[2] = xyz.z;
+    ++stats.samples;
+    block.put(pFilm, v);
+    std::fill(m_values.begin() + 3 + std::ptrdiff_t(m_binCount), m_values.end(), 0.f);
+    return xyzToLinearSRGB(xyz);
 }
 
 void PixelVariance::prepare(const IFilm& film, bool accumulate) {
@@ -110,51 +148,32 @@ bool PixelVariance::get(std::vector<float>& variance) const {
 
 namespace {
 
-/// One pixel's integrand in primary sample space (see renderSampled). The splat buffer
+/// One pixel's integrand in primary sample space (see renderSampled). The splatter
 /// belongs to the calling thread and is reused from pixel to pixel: nothing is allocated
 /// per sample or per pixel.
 class SampledIntegrand final : public Implements<IFunction> {
 public:
-    SampledIntegrand(const Scene& scene, const ISampleRenderer& renderer, const SpectralBinning& bins,
-                     std::span<float> values, Point2i pixel, ImageBlock& block, TileStats& stats)
-        : m_scene(scene), m_renderer(renderer), m_bins(bins), m_values(values), m_pixel(pixel),
-          m_block(block), m_stats(stats), m_offset(scene.camera().film().cropOffset()) {}
+    SampledIntegrand(const Scene& scene, const ISampleRenderer& renderer, SampleSplatter& splatter, Point2i pixel,
+                     ImageBlock& block, TileStats& stats)
+        : m_scene(scene), m_renderer(renderer), m_splatter(splatter), m_pixel(pixel), m_block(block),
+          m_stats(stats) {}
 
     int dimension() const override { return 0; }
     int channels() const override { return 3; }
     void eval(ISampler& sampler, std::span<double> out) override {
-        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-        Point2f pFilm = Point2f(m_pixel) + sampler.getPixel2D();
-        SampledSpectrum weight(1.f);
-        Ray ray = m_scene.camera().generateRay({pFilm + m_offset, sampler.get2D(), 0.f}, lambda, weight);
-        float* v = m_values.data();
-        float* extra = v + 3 + m_bins.count();
-        std::fill(m_values.begin(), m_values.end(), 0.f);
-        SampledSpectrum L = weight * m_renderer.sampleRadiance(m_scene, ray, lambda, sampler, extra);
-        Vector3f xyz = cie::toXYZ(L, lambda);
-        bool finite = isFinite(xyz) && m_bins.estimate(L, lambda, v + 3);
-        for (float* c = extra; finite && c != v + m_values.size(); ++c) finite = std::isfinite(*c);
-        if (!finite) {  // keep NaN/Inf off the film, every channel of the sample; counted
-            ++m_stats.rejected;
-            xyz = Vector3f(0.f);
-            std::fill(m_values.begin(), m_values.end(), 0.f);
-        }
-        v[0] = xyz.x, v[1] = xyz.y, v[2] = xyz.z;
-        ++m_stats.samples;
-        m_block.put(pFilm, v);
-        Vector3f rgb = xyzToLinearSRGB(xyz);
+        FilmSample cs = sampleCamera(m_scene.camera(), sampler, m_pixel);
+        SampledSpectrum L = cs.weight * m_renderer.sampleRadiance(m_scene, cs.ray, cs.lambda, sampler, m_splatter.extra());
+        Vector3f rgb = m_splatter.put(m_block, cs.pFilm, L, cs.lambda, m_stats);
         out[0] = rgb.x, out[1] = rgb.y, out[2] = rgb.z;
     }
 
 private:
     const Scene& m_scene;
     const ISampleRenderer& m_renderer;
-    const SpectralBinning& m_bins;
-    std::span<float> m_values;  // X, Y, Z, spectral bins, the renderer's channels
+    SampleSplatter& m_splatter;
     Point2i m_pixel;
     ImageBlock& m_block;
     TileStats& m_stats;
-    Point2f m_offset;
 };
 
 } // namespace
@@ -169,12 +188,11 @@ RenderStats renderSampled(const Scene& scene, const RenderControl& control, cons
     for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
     channels.insert(channels.end(), extra.begin(), extra.end());
     variance.prepare(film, control.accumulate);
+    tbb::enumerable_thread_specific<SampleSplatter> splatters([&] { return SampleSplatter(bins, extra.size()); });
     return renderTiles(scene, control, channels, "Rendering",
                        [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
                            TileStats& stats) {
-                           thread_local std::vector<float> values;
-                           values.resize(3 + bins.count() + extra.size());
-                           SampledIntegrand f(scene, renderer, bins, values, px, block, stats);
+                           SampledIntegrand f(scene, renderer, splatters.local(), px, block, stats);
                            sampler.startPixel(px);
                            variance.merge(px, integrator.integrate(f, sampler, range.first, range.count));
                        });

@@ -26,11 +26,30 @@ struct RenderControl {
     bool stopRequested() const { return stop && stop->load(std::memory_order_relaxed); }
 };
 
+/// Where a renderer's rays and time went (`effigi render --stats`), kept by renderers that
+/// trace in stages (path's wavefront mode). Times are thread-seconds summed over threads.
+struct WorkStats {
+    enum Ray { Camera, Extension, Shadow, RayKinds };
+    std::uint64_t rays[RayKinds] = {0, 0, 0};     ///< rays traced, by kind
+    double traceSeconds[RayKinds] = {0, 0, 0};    ///< in the accelerator's batch calls, by kind
+    double cameraSeconds = 0;  ///< generating camera samples (sampler, wavelengths, camera)
+    double shadeSeconds = 0;   ///< surface interactions, emission, light and BSDF sampling
+    double filmSeconds = 0;    ///< colour conversion and splatting into the film
+    bool kept = false;         ///< false: the renderer keeps no such counts
+
+    void merge(const WorkStats& o) {
+        for (int k = 0; k < RayKinds; ++k) rays[k] += o.rays[k], traceSeconds[k] += o.traceSeconds[k];
+        cameraSeconds += o.cameraSeconds, shadeSeconds += o.shadeSeconds, filmSeconds += o.filmSeconds;
+        kept = kept || o.kept;
+    }
+};
+
 struct RenderStats {
     std::uint64_t samples = 0;         ///< camera samples taken
     std::uint64_t rejectedSamples = 0; ///< NaN/Inf samples kept off the film
     double seconds = 0.0;
     bool interrupted = false;
+    WorkStats work;
 };
 
 class IRenderer : public virtual IComponent {

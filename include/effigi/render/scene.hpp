@@ -7,6 +7,7 @@
 #include "effigi/interfaces/irenderer.hpp"
 #include "effigi/interfaces/ishape.hpp"
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,14 @@ public:
         return true;
     }
     bool occluded(const Ray& ray) const { return m_accel->occluded(ray); }
+    /// A batch of closest-hit queries (the accelerator's packet path); hits[i].valid() is
+    /// false on a miss. Turn a hit into a surface interaction with interaction().
+    void intersect(std::span<const Ray> rays, std::span<Hit> hits) const { m_accel->intersect(rays, hits); }
+    /// A batch of shadow rays: blocked[i] = 1 if rays[i] hits anything.
+    void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const { m_accel->occluded(rays, blocked); }
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const {
+        return m_shapePtrs[hit.shape]->interaction(ray, hit);
+    }
 
     /// True if some shape's BSDF has a pass-through (BSDFNull) lobe (null, mask): only
     /// then do shadow rays need transmittance() instead of occluded().

@@ -10,6 +10,7 @@
 #include "effigi/interfaces/isampler.hpp"
 #include "effigi/render/image_block.hpp"
 #include "effigi/render/scene.hpp"
+#include "effigi/render/spectral_bins.hpp"
 
 #include <functional>
 #include <string>
@@ -21,6 +22,7 @@ namespace effigi {
 struct TileStats {
     std::uint64_t samples = 0;
     std::uint64_t rejected = 0;
+    WorkStats work;
 };
 
 /// The sample indices a pass renders in every pixel: [first, first + count).
@@ -32,10 +34,48 @@ struct SampleRange {
 using PixelFunction = std::function<void(const Point2i& pixel, SampleRange samples, ISampler& sampler,
                                          ImageBlock& block, TileStats& stats)>;
 
+/// Renders the pixels [offset, offset + extent) of one tile (film coordinates of the crop
+/// window); it should check control.stopRequested() at least once per pixel's worth of work.
+using TileFunction = std::function<void(const Point2i& offset, const Vector2i& extent, SampleRange samples,
+                                        ISampler& sampler, ImageBlock& block, TileStats& stats)>;
+
 /// Prepare the camera's film with `channels` (unless control.accumulate), render the
-/// pass's samples of every pixel, merge. `label` names the progress bar.
+/// pass's samples of every tile in parallel, merge. `label` names the progress bar.
+RenderStats renderTileBlocks(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
+                             const std::string& label, const TileFunction& tile);
+
+/// renderTileBlocks one pixel at a time (the stop request is checked per pixel).
 RenderStats renderTiles(const Scene& scene, const RenderControl& control, const std::vector<std::string>& channels,
                         const std::string& label, const PixelFunction& pixel);
+
+/// The start of every camera sample of the sampled renderers, in the order of their
+/// sampler dimensions: hero wavelengths (1D), film position (pixel 2D), lens (2D).
+struct FilmSample {
+    Point2f pFilm;                ///< in the crop window's frame (what ImageBlock::put takes)
+    SampledWavelengths lambda;
+    SampledSpectrum weight{1.f};  ///< the camera's importance weight of the ray
+    Ray ray;
+};
+FilmSample sampleCamera(const ICamera& camera, ISampler& sampler, const Point2i& pixel);
+
+/// The film's channels of one sample: X, Y, Z, the spectral bins, then a renderer's own
+/// channels; shared by renderSampled and the renderers that trace many samples at once.
+class SampleSplatter {
+public:
+    /// `extraChannels` floats follow the spectral bins. Owns its scratch buffer.
+    SampleSplatter(const SpectralBinning& bins, std::size_t extraChannels);
+    /// Where the renderer writes its own channels for the next put (zeroed by put).
+    float* extra() { return m_values.data() + 3 + m_binCount; }
+    /// Splat radiance L (weight already applied) at pFilm; returns the sample's linear
+    /// sRGB. A sample with any NaN/Inf channel is kept off the film (zero) and counted.
+    Vector3f put(ImageBlock& block, const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda,
+                 TileStats& stats);
+
+private:
+    const SpectralBinning& m_bins;
+    std::size_t m_binCount;
+    std::vector<float> m_values;
+};
 
 /// renderTiles for renderers that average independent camera samples into X, Y, Z: per
 /// sample a film position, hero wavelengths and a camera ray, then `xyzOf(ray, lambda,
