@@ -26,6 +26,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 SCENES = {
     "cornell-box": (ROOT / "scenes/cornell-box/scene.xml", ROOT / "tests/data/cornell/mitsuba-reference.exr"),
     "cornell-specular": (ROOT / "scenes/cornell-specular/scene.xml", ROOT / "bench/references/cornell-specular.exr"),
+    "cornell-glossy": (ROOT / "scenes/cornell-glossy/scene.xml", ROOT / "bench/references/cornell-glossy.exr"),
 }
 LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
 

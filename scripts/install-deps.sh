@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config ccache
   libembree-dev        # Embree 3: the default accelerator
-  libopenimageio-dev   # PNG (and other LDR) output
+  libopenimageio-dev   # bitmap textures, envmaps, non-EXR references (loaded only where used)
   libopenexr-dev       # EXR output
   libglm-dev           # vector math
   libosd-dev           # OpenSubdiv (subdivision surfaces)

@@ -43,6 +43,16 @@ TEST_CASE("xml: bad input is reported with file, line and name", "[xml]") {
 </scene>)",
                     {"bad.xml:4:", "<bsfd>", "did you mean <bsdf>"});
     }
+    SECTION("a property directly inside <scene> other than Mitsuba's one scene property") {
+        expectError(R"(<scene version="3.0.0">
+    <float name="scale" value="2"/>
+</scene>)",
+                    {"bad.xml:2:", "scale", "directly inside <scene>", "embree_use_robust_intersections"});
+        CHECK_NOTHROW(parseString(R"(<scene version="3.0.0">
+    <boolean name="embree_use_robust_intersections" value="true"/>
+</scene>)",
+                                  "good.xml"));
+    }
     SECTION("missing name") {
         expectError(R"(<scene version="3.0.0">
     <shape type="sphere">

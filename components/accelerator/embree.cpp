@@ -1,10 +1,14 @@
 // accelerator "embree" — Intel Embree 3 BVHs: the default, and the fast path.
 //
 // Triangle meshes become Embree triangle geometry; analytic shapes (spheres, disks)
-// become user geometry that calls back into IShape::intersect. Batches of rays are traced
-// as 16-wide packets (rtcIntersect16 / rtcOccluded16).
-// Parameters: robust (bool) — Embree's robust mode, which never misses hits on shared
-// edges at some cost in speed. Reference: Wald et al. 2014, "Embree: A Kernel Framework
+// become user geometry that calls back into IShape::intersect. Batches of rays (the
+// wavefront renderers') are traced as 16-wide packets (rtcIntersect16 / rtcOccluded16),
+// as Embree streams (rtcIntersect1M) or one ray at a time, by the `batch` parameter;
+// bench/RESULTS.md has what each gives per ray kind (packets are the default).
+// Parameters: robust (bool) — Embree's robust mode, which never misses hits on edges and
+// vertices, at about 20 % of ray speed. On by default, unlike Mitsuba 3: without it the
+// conformance suite finds misses on edges (4 % of its edge rays) and a mirror's image
+// loses 0.4 % of its light through cracks (tests/test_mirror_render.cpp); batch (packet | stream | single). Reference: Wald et al. 2014, "Embree: A Kernel Framework
 // for Efficient CPU Ray Tracing", ACM TOG 33(4).
 #include "effigi/core/log.hpp"
 #include "effigi/core/registry.hpp"
@@ -15,6 +19,8 @@
 
 #include <cstring>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace effigi {
 namespace {
@@ -67,11 +73,17 @@ public:
     static Schema schema() {
         Schema s("accelerator", "embree", "Intel Embree 3 BVH (default accelerator); packets of 16 for batches.");
         s.cite("Wald et al. 2014, Embree: A Kernel Framework for Efficient CPU Ray Tracing, ACM TOG 33(4)");
-        s.boolean("robust", true, "Robust traversal: no missed hits on shared edges (slightly slower)");
+        s.boolean("robust", true,
+                  "Robust traversal: no missed hits on edges and vertices, about 20 % slower rays (Mitsuba 3's "
+                  "default is off; a scene-level embree_use_robust_intersections sets it)");
+        s.string("batch", "packet", "How batches of rays are traced: packet (16 wide), stream (rtcIntersect1M), single")
+            .oneOf({"packet", "stream", "single"});
         return s;
     }
 
     explicit Embree(const Properties& p) : m_robust(p.getBool("robust")) {
+        const std::string batch = p.getString("batch");
+        m_batch = batch == "stream" ? Batch::Stream : batch == "single" ? Batch::Single : Batch::Packet;
         m_device = rtcNewDevice(nullptr);
         if (!m_device) fail("embree: cannot create a device (error {})", int(rtcGetDeviceError(nullptr)));
         rtcSetDeviceErrorFunction(m_device, onEmbreeError, nullptr);
@@ -119,6 +131,8 @@ public:
     }
 
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        if (m_batch == Batch::Single) return IIntersect::intersect(rays, hits);
+        if (m_batch == Batch::Stream) return intersectStream(rays, hits);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -144,6 +158,8 @@ public:
     }
 
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const override {
+        if (m_batch == Batch::Single) return IIntersect::occluded(rays, out);
+        if (m_batch == Batch::Stream) return occludedStream(rays, out);
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -163,6 +179,37 @@ public:
     BBox3f bbox() const override { return m_bbox; }
 
 private:
+    enum class Batch { Packet, Stream, Single };
+
+    /// Embree's stream mode: it regroups the rays into packets itself.
+    void intersectStream(std::span<const Ray> rays, std::span<Hit> hits) const {
+        thread_local std::vector<RTCRayHit> buf;
+        buf.resize(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            setRay(buf[i].ray, rays[i]);
+            buf[i].hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            buf[i].hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        }
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcIntersect1M(m_scene, &ctx, buf.data(), unsigned(buf.size()), sizeof(RTCRayHit));
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const RTCRayHit& rh = buf[i];
+            hits[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID
+                          ? Hit{}
+                          : Hit{rh.ray.tfar, rh.hit.geomID, rh.hit.primID, {rh.hit.u, rh.hit.v}};
+        }
+    }
+    void occludedStream(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+        thread_local std::vector<RTCRay> buf;
+        buf.resize(rays.size());
+        for (std::size_t i = 0; i < rays.size(); ++i) setRay(buf[i], rays[i]);
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcOccluded1M(m_scene, &ctx, buf.data(), unsigned(buf.size()), sizeof(RTCRay));
+        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = buf[i].tfar < 0.f ? 1 : 0;
+    }
+
     // Embree accepts t = tnear; IIntersect promises t in (0, tMax), so a ray starting
     // exactly on a surface must not report it at t = 0 (or −0).
     static constexpr float MinT = std::numeric_limits<float>::min();
@@ -212,6 +259,7 @@ private:
     }
 
     bool m_robust;
+    Batch m_batch = Batch::Packet;
     RTCDevice m_device = nullptr;
     RTCScene m_scene = nullptr;
     BBox3f m_bbox;

@@ -32,7 +32,9 @@
  *   spectral_min/_max      float, 360 / 830 nm   wavelength range of the bins
  *   rfilter                nested filter, default gaussian
  * Reference: D. P. Mitchell, A. N. Netravali, "Reconstruction Filters in Computer
- * Graphics", SIGGRAPH 1988; OpenEXR file layout, https://openexr.com.
+ * Graphics", SIGGRAPH 1988; OpenEXR file layout, https://openexr.com; W3C, "Portable
+ * Network Graphics (PNG) Specification", 2nd ed. (written with zlib alone, hdrfilm_png.hpp,
+ * so that a render loads no OpenImageIO).
  */
 #include "film_storage.hpp"
 #include "spectral_exr.hpp"

@@ -1,7 +1,10 @@
 #pragma once
 // Image file output for the hdrfilm module and `effigi convert`: OpenEXR through the
-// OpenEXR library and 8-bit PNG through OpenImageIO. Kept out of libeffigi so the core
-// library links neither. Header-only because components/<tag>/*.cpp each become a module.
+// OpenEXR library and 8-bit PNG through zlib (hdrfilm_png.hpp). Kept out of libeffigi so
+// the core library links neither, and free of OpenImageIO so that a render loads none of
+// its ~250 shared libraries. Header-only because components/<tag>/*.cpp each become a module.
+#include "hdrfilm_png.hpp"
+
 #include "effigi/core/error.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -15,7 +18,6 @@
 #include <ImfOutputFile.h>
 #include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,21 +30,6 @@
 namespace effigi::hdrfilm_io {
 
 namespace fs = std::filesystem;
-
-[[noreturn]] inline void cannotWrite(const fs::path& path, std::string reason) {
-    while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
-    std::replace(reason.begin(), reason.end(), '\n', ' ');  // errors are one line
-    fail("cannot write {}: {}", path.string(), reason.empty() ? "unknown error" : reason);
-}
-
-/// Fail early with a clear reason when the target directory is missing; everything
-/// else (permissions, full disk) is reported by the writing library.
-inline void checkDirectory(const fs::path& path) {
-    fs::path dir = path.parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !fs::is_directory(dir, ec))
-        cannotWrite(path, fmt::format("directory '{}' does not exist", dir.string()));
-}
 
 /// OpenEXR, ZIP-compressed, one channel per image channel (HALF or FLOAT), metadata as
 /// string attributes. A non-null `rgb` adds that colour space's chromaticities (primaries
@@ -117,14 +104,7 @@ inline void writePng(const fs::path& path, int width, int height, int channels, 
             bytes[i] = encode(tonemap::applyGrey(toneMap, linear[i], exposure));
         }
     }
-    auto out = OIIO::ImageOutput::create(path.string());
-    if (!out) cannotWrite(path, OIIO::geterror());
-    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    for (const auto& [key, value] : meta) spec.attribute(key, value);
-    if (!out->open(path.string(), spec)) cannotWrite(path, out->geterror());
-    if (!out->write_image(OIIO::TypeDesc::UINT8, bytes.data())) cannotWrite(path, out->geterror());
-    if (!out->close()) cannotWrite(path, out->geterror());
+    writePngBytes(path, width, height, channels, bytes, meta);
 }
 
 } // namespace effigi::hdrfilm_io

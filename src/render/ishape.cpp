@@ -15,7 +15,7 @@ DirectionSample IShape::sampleDirection(const Point3f& ref, const Point2f& u) co
     float d2 = dot(d, d);
     if (!(d2 > 0.f) || !(ps.pdf > 0.f)) return ds;
     ds.dist = std::sqrt(d2);
-    ds.wi = d / ds.dist;
+    ds.wi = d * (1.f / ds.dist);
     float cosLight = absDot(ps.n, ds.wi);
     if (!(cosLight > 0.f)) return ds;
     ds.pdf = ps.pdf * d2 / cosLight;

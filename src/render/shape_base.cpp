@@ -127,13 +127,15 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
     si.primUV = hit.uv;
     Vector3f ng = cross(p1 - p0, p2 - p0);
     float ng2 = dot(ng, ng);
-    si.n = ng2 > 0.f ? ng / std::sqrt(ng2) : Normal3f(0.f, 0.f, 1.f);
+    // One reciprocal and three products per normalisation, not three divisions: this
+    // runs at every hit.
+    si.n = ng2 > 0.f ? ng * (1.f / std::sqrt(ng2)) : Normal3f(0.f, 0.f, 1.f);
 
     Normal3f ns = si.n;
     if (!m_mesh.normals.empty()) {
         Normal3f m = b0 * m_mesh.normals[idx[0]] + b1 * m_mesh.normals[idx[1]] + b2 * m_mesh.normals[idx[2]];
         float m2 = dot(m, m);
-        if (m2 > 1e-20f && std::isfinite(m2)) ns = m / std::sqrt(m2);
+        if (m2 > 1e-20f && std::isfinite(m2)) ns = m * (1.f / std::sqrt(m2));
     }
 
     Vector3f s(0.f);
@@ -146,9 +148,10 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
         Vector2f d02 = t0 - t2, d12 = t1 - t2;
         float det = d02.x * d12.y - d02.y * d12.x;
         if (std::abs(det) > 1e-12f) {
-            s = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det;
+            const float invDet = 1.f / det;
+            s = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) * invDet;
             si.dpdu = s;
-            si.dpdv = (d02.x * (p1 - p2) - d12.x * (p0 - p2)) / det;
+            si.dpdv = (d02.x * (p1 - p2) - d12.x * (p0 - p2)) * invDet;
         }
     } else {
         si.uv = Point2f(b1, b2);
@@ -159,7 +162,7 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
     s -= ns * dot(ns, s);
     float s2 = dot(s, s);
     if (s2 > 1e-20f && std::isfinite(s2)) {
-        s /= std::sqrt(s2);
+        s *= 1.f / std::sqrt(s2);
         si.shading = Frame(s, cross(ns, s), ns);
     } else {
         si.shading = Frame(ns);
@@ -194,7 +197,7 @@ PositionSample MeshShape::samplePosition(const Point2f& u) const {
     ps.p = b0 * p0 + b1 * p1 + b2 * p2;
     Vector3f ng = cross(p1 - p0, p2 - p0);
     float ng2 = dot(ng, ng);
-    ps.n = ng2 > 0.f ? ng / std::sqrt(ng2) : Normal3f(0.f, 0.f, 1.f);
+    ps.n = ng2 > 0.f ? ng * (1.f / std::sqrt(ng2)) : Normal3f(0.f, 0.f, 1.f);
     ps.uv = m_mesh.uvs.empty()
                 ? Point2f(b1, b2)
                 : b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];

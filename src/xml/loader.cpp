@@ -205,6 +205,10 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
     }
     if (!accel) {
         Properties p("accelerator", "embree", root.where);
+        // Mitsuba 3's scene-level switch for Embree's robust mode (off by default there,
+        // on here: see the embree component).
+        if (const char* robust = "embree_use_robust_intersections"; root.props.has(robust))
+            p.set("robust", root.props.getBool(robust), root.props.whereOf(robust));
         accel = query<IIntersect>(registry.create("accelerator", "embree", p));
         if (!accel) fail("{}: the default accelerator 'embree' is not an accelerator", root.where.file);
     }

@@ -251,7 +251,10 @@ private:
     void parseProperty(pugi::xml_node x, const SourceFile& f, Node& node, NameMap& names) {
         Element e = element(x, f, true);
         if (e.name.empty()) e.fail("missing attribute 'name'");
-        if (node.tag == "scene") e.fail("properties belong inside an object, not directly inside <scene>");
+        // Mitsuba 3's scene takes one property of its own (the loader hands it to Embree).
+        if (node.tag == "scene" && e.name != "embree_use_robust_intersections")
+            e.fail("properties belong inside an object, not directly inside <scene> (the only scene property is "
+                   "embree_use_robust_intersections)");
         PropertyValue value;
         if (e.tag == "transform") {
             e.allowOnly({"name"});

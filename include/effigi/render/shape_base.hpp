@@ -30,7 +30,7 @@ protected:
     void finish(SurfaceInteraction& si, const Ray& ray) const {
         si.wo = -ray.d;
         float l2 = dot(si.wo, si.wo);
-        if (l2 > 0.f && l2 != 1.f) si.wo /= std::sqrt(l2);
+        if (l2 > 0.f && l2 != 1.f) si.wo *= 1.f / std::sqrt(l2);
         si.shape = this;
         si.bsdf = m_bsdf.get();
         si.emitter = m_emitter.get();
