@@ -1,23 +1,31 @@
 #!/usr/bin/env python3
 """effigi against Mitsuba 3 at equal sample count and at equal time, in one run.
 
-For each scene, Mitsuba renders N spp (per variant) and we record its time; effigi renders
-N spp, then renders again for exactly Mitsuba's time (`effigi render --time`). Every image
-is compared with a common high-spp reference (relMSE, mean of (x-r)^2/(r^2+0.01)). Prints a
-Markdown table ready for bench/RESULTS.md.
+For each scene, Mitsuba renders N spp (per variant) and we record its render time and its
+whole-process time (a fresh Python process: interpreter, `import mitsuba`, scene load, JIT,
+render, EXR write); effigi renders N spp (`effigi render`, whole process timed the same
+way), then renders again for exactly Mitsuba's render time (`effigi render --time`).
+Every image is compared with a common high-spp reference (relMSE, mean of
+(x-r)^2/(r^2+0.01)). Each effigi/Mitsuba pair runs back to back, alternating, `--repeat`
+times; the table shows the median. Prints a Markdown table ready for bench/RESULTS.md.
 
     python3 bench/equal_time.py --spp 64
-    python3 bench/equal_time.py --make-reference cornell-specular --ref-spp 2048
+    python3 bench/equal_time.py --make-reference cornell-glossy --ref-spp 1024
 
 Needs `pip install mitsuba`; the llvm variant also needs libLLVM (see bench/README.md).
+The llvm variant's kernels are cached on disk by Dr.Jit after the first run, as in any
+real use; the first (warm-up) render of each variant is not counted.
 """
 import argparse
 import datetime
+import json
 import os
 import pathlib
 import platform
 import re
+import statistics
 import subprocess
+import sys
 import time
 
 import numpy as np
@@ -30,39 +38,60 @@ SCENES = {
 }
 LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1"
 
+# Run in a child process: the whole-process time of a Mitsuba render.
+MITSUBA_CHILD = r"""
+import json, sys, time
+t0 = time.perf_counter()
+import mitsuba as mi
+variant, scene, spp, out, seed = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4], int(sys.argv[5])
+mi.set_variant(variant)
+s = mi.load_file(scene, spp=spp)
+start = time.perf_counter()
+img = mi.render(s, spp=spp, seed=seed)
+if variant.startswith("llvm"):
+    import drjit as dr
+    dr.eval(img)
+    dr.sync_thread()
+render = time.perf_counter() - start
+mi.Bitmap(img).write(out)
+print(json.dumps({"render": render, "process_inner": time.perf_counter() - t0}))
+"""
+
 
 def relmse(img, ref):
     d = img[..., :3] - ref[..., :3]
     return float(np.mean(d * d / (ref[..., :3] ** 2 + 0.01)))
 
 
-def mitsuba_render(mi, variant, scene, spp, out, seed=1):
+def read_exr(path):
+    import mitsuba as mi
+    return np.array(mi.Bitmap(str(path)), dtype=np.float64)
+
+
+def mitsuba_render(variant, scene, spp, out, seed=1):
     # seed 1: the reference is rendered with seed 0, and must not share samples with this.
-    mi.set_variant(variant)
-    s = mi.load_file(str(scene), spp=spp)
     start = time.perf_counter()
-    img = mi.render(s, spp=spp, seed=seed)
-    if variant.startswith("llvm"):
-        import drjit as dr
-        dr.eval(img)
-        dr.sync_thread()
-    seconds = time.perf_counter() - start
-    mi.Bitmap(img).write(str(out))
-    return seconds
+    run = subprocess.run([sys.executable, "-c", MITSUBA_CHILD, variant, str(scene), str(spp), str(out), str(seed)],
+                         capture_output=True, text=True, check=True)
+    process = time.perf_counter() - start
+    return json.loads(run.stdout.strip().splitlines()[-1])["render"], process
 
 
 def effigi_render(scene, out, extra):
     cmd = [str(ROOT / "build/release/bin/effigi"), "render", str(scene), "-o", str(out), "--no-progress"] + extra
+    start = time.perf_counter()
     run = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    process = time.perf_counter() - start
     m = re.search(r"([0-9]+) samples in ([0-9.]+) s", run.stdout)
-    return float(m.group(2)), int(m.group(1))
+    return float(m.group(2)), int(m.group(1)), process
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--scenes", default=",".join(SCENES))
-    ap.add_argument("--variants", default="scalar_spectral,llvm_ad_spectral")
+    ap.add_argument("--variants", default="llvm_ad_spectral,scalar_spectral")
+    ap.add_argument("--repeat", type=int, default=3, help="back-to-back pairs per scene and variant (median)")
     ap.add_argument("--make-reference", metavar="SCENE")
     ap.add_argument("--ref-spp", type=int, default=2048)
     args = ap.parse_args()
@@ -76,7 +105,7 @@ def main():
         scene, ref = SCENES[args.make_reference]
         ref.parent.mkdir(parents=True, exist_ok=True)
         variant = "scalar_spectral"  # llvm would hold every sample of the image in memory at once
-        sec = mitsuba_render(mi, variant, scene, args.ref_spp, ref, seed=0)
+        sec, _ = mitsuba_render(variant, scene, args.ref_spp, ref, seed=0)
         print(f"wrote {ref} ({variant}, {args.ref_spp} spp, {sec:.1f} s)")
         return
 
@@ -84,27 +113,39 @@ def main():
     if not os.path.exists(LLVM):
         variants = [v for v in variants if not v.startswith("llvm")]
     print(f"## {datetime.date.today()} — effigi vs Mitsuba {mi.__version__}, {args.spp} spp, "
-          f"{os.cpu_count()} cores ({platform.processor() or platform.machine()})\n")
-    print("| scene | renderer | spp | seconds | M samples/s | relMSE (equal spp) | effigi relMSE at equal time "
-          "| relMSE ratio mitsuba / effigi at equal time |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
+          f"{os.cpu_count()} cores ({platform.processor() or platform.machine()}), median of {args.repeat}\n")
+    print(f"`python3 {' '.join(sys.argv)}`; load average before: {os.getloadavg()[0]:.2f}\n")
+    print("| scene | renderer | spp | render s | process s | M samples/s | effigi / Mitsuba samples/s "
+          "| relMSE (equal spp) | effigi relMSE at Mitsuba's render time | relMSE effigi / Mitsuba at equal time |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name in args.scenes.split(","):
         scene, ref_path = SCENES[name]
-        ref = np.array(mi.Bitmap(str(ref_path)), dtype=np.float64)
-        ef_sec, ef_samples = effigi_render(scene, out / f"{name}-effigi.exr", ["-D", f"spp={args.spp}"])
-        ef_img = np.array(mi.Bitmap(str(out / f"{name}-effigi.exr")), dtype=np.float64)
-        print(f"| {name} | effigi | {args.spp} | {ef_sec:.2f} | {ef_samples / ef_sec / 1e6:.3f} | "
-              f"{relmse(ef_img, ref):.3g} | | |")
+        ref = read_exr(ref_path)
+        samples = ref.shape[0] * ref.shape[1] * args.spp
+        ef_path = out / f"{name}-effigi.exr"
         for v in variants:
             mi_path = out / f"{name}-{v}.exr"
-            sec = mitsuba_render(mi, v, scene, args.spp, mi_path)
-            mi_err = relmse(np.array(mi.Bitmap(str(mi_path)), dtype=np.float64), ref)
+            mitsuba_render(v, scene, args.spp, mi_path)  # warm-up (JIT cache, page cache)
+            effigi_render(scene, ef_path, ["-D", f"spp={args.spp}"])
+            runs = []
+            for _ in range(args.repeat):
+                ef = effigi_render(scene, ef_path, ["-D", f"spp={args.spp}"])
+                mr = mitsuba_render(v, scene, args.spp, mi_path)
+                runs.append((ef, mr))
+            ef_sec = statistics.median(r[0][0] for r in runs)
+            ef_proc = statistics.median(r[0][2] for r in runs)
+            mi_sec = statistics.median(r[1][0] for r in runs)
+            mi_proc = statistics.median(r[1][1] for r in runs)
+            ef_err = relmse(read_exr(ef_path), ref)
+            mi_err = relmse(read_exr(mi_path), ref)
             eq_path = out / f"{name}-effigi-{v}-time.exr"
-            effigi_render(scene, eq_path, ["--time", f"{sec:.3f}"])
-            eq_err = relmse(np.array(mi.Bitmap(str(eq_path)), dtype=np.float64), ref)
-            samples = ref.shape[0] * ref.shape[1] * args.spp
-            print(f"| {name} | mitsuba {v} | {args.spp} | {sec:.2f} | {samples / sec / 1e6:.3f} | {mi_err:.3g} | "
-                  f"{eq_err:.3g} | {mi_err / eq_err:.2f} |")
+            effigi_render(scene, eq_path, ["--time", f"{mi_sec:.3f}"])
+            eq_err = relmse(read_exr(eq_path), ref)
+            print(f"| {name} | effigi | {args.spp} | {ef_sec:.2f} | {ef_proc:.2f} | {samples / ef_sec / 1e6:.3f} | "
+                  f"**{mi_sec / ef_sec:.2f}** | {ef_err:.3g} | | |")
+            print(f"| {name} | mitsuba {v} | {args.spp} | {mi_sec:.2f} | {mi_proc:.2f} | {samples / mi_sec / 1e6:.3f} "
+                  f"| | {mi_err:.3g} | {eq_err:.3g} | **{eq_err / mi_err:.2f}** |")
+            sys.stdout.flush()
 
 
 if __name__ == "__main__":

@@ -175,3 +175,16 @@ TEST_CASE("fresnel: reflection and refraction directions", "[fresnel]") {
         }
     }
 }
+
+TEST_CASE("fresnel: the inline principal square root is std::sqrt's, without cancellation", "[fresnel]") {
+    // Both branches (a >= 0, a < 0), signed zeros, and parts 20 orders of magnitude apart
+    // (where the cancelling form sqrt((|z| + a) / 2) with a < 0 would lose every digit).
+    const double parts[] = {0.0, -0.0, 1e-10, -1e-10, 0.3, -0.3, 1.0, -1.0, 7.5, -7.5, 1e10, -1e10};
+    for (double a : parts)
+        for (double b : parts) {
+            std::complex<double> ours = principalSqrt(a, b), ref = std::sqrt(std::complex<double>(a, b));
+            INFO("sqrt(" << a << " + " << b << "i): " << ours << " vs " << ref);
+            CHECK(ours.real() >= 0.0);
+            CHECK(std::abs(ours - ref) <= 1e-14 * std::max(1e-300, std::abs(ref)));
+        }
+}

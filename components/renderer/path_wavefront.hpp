@@ -6,8 +6,8 @@
 // A tile of up to 32×32 pixels renders one sample index of every pixel per wave. A wave
 // is: camera samples for all its paths; then, while any path is alive, the closest hits
 // of all live paths' rays in one batch, the shading step of each path
-// (PathIntegrator::scatter: emission, light sample, BSDF sample), and all shadow rays of
-// that step in one batch; finally every sample is splatted. Each path keeps its own
+// (PathIntegrator::scatter: emission, light sample, BSDF sample; hits grouped by shape),
+// and all shadow rays of that step in one batch; finally every sample is splatted. Each path keeps its own
 // sampler (one per pixel of the tile, started at that pixel) and draws the same dimensions
 // in the same order as the one-path loop, so the estimator is the same: with the same
 // seed both modes draw the same random numbers for each sample.
@@ -134,7 +134,8 @@ private:
         m_next.clear();
         m_shadowRays.clear(), m_shadowL.clear(), m_shadowOwner.clear();
         std::optional<ShadowRay> shadow;
-        for (std::size_t j = 0; j < active.size(); ++j) {
+        orderByShape(active.size());
+        for (std::uint32_t j : m_order) {
             const std::uint32_t i = active[j];
             PathState& s = m_paths[i];
             if (!m_hits[j].valid()) {
@@ -149,6 +150,19 @@ private:
                 m_shadowOwner.push_back(i);
             }
         }
+    }
+
+    /// The order in which the step's hits are shaded: grouped by shape (so by BSDF and
+    /// emitter; misses last), a counting sort. Code and data of one material stay hot:
+    /// measured +2 % samples/s on the Cornell box, +3 % on the glossy one (bench/RESULTS.md).
+    void orderByShape(std::size_t n) {
+        m_order.resize(n);
+        const std::size_t shapes = m_scene.shapes().size();
+        m_bucket.assign(shapes + 2, 0);
+        auto key = [&](std::size_t j) { return m_hits[j].valid() ? std::size_t(m_hits[j].shape) : shapes; };
+        for (std::size_t j = 0; j < n; ++j) ++m_bucket[key(j) + 1];
+        for (std::size_t b = 1; b < m_bucket.size(); ++b) m_bucket[b] += m_bucket[b - 1];
+        for (std::size_t j = 0; j < n; ++j) m_order[m_bucket[key(j)]++] = std::uint32_t(j);
     }
 
     /// The step's shadow rays in one batch; unblocked ones add their contribution.
@@ -187,6 +201,7 @@ private:
     std::vector<SampledSpectrum> m_shadowL;
     std::vector<std::uint32_t> m_shadowOwner;
     std::vector<std::uint8_t> m_blocked;
+    std::vector<std::uint32_t> m_order, m_bucket;
 };
 
 /// Renders the scene's film with the wavefront mode (the `mean` integrator's estimate per

@@ -43,6 +43,20 @@ inline float fresnelDielectric(float cosThetaI, float eta) {
     return float(0.5 * (rs * rs + rp * rp));
 }
 
+/// The principal square root of a + ib (real part ≥ 0), in the form that does not cancel:
+/// the larger of the two parts comes from sqrt((|z| ± a) / 2), the other from b / (2 ·
+/// that). Inline arithmetic instead of std::sqrt(std::complex), which is a libm call.
+inline std::complex<double> principalSqrt(double a, double b) {
+    const double r = std::sqrt(a * a + b * b);
+    if (r == 0.0) return {0.0, 0.0};
+    if (a >= 0.0) {
+        const double re = std::sqrt(0.5 * (r + a));
+        return {re, b / (2.0 * re)};
+    }
+    const double im = std::copysign(std::sqrt(0.5 * (r - a)), b);
+    return {std::abs(b) / (2.0 * std::abs(im)), im};
+}
+
 /// Unpolarised Fresnel reflectance of a conductor with complex relative index
 /// η + ik (relative to the outside medium); cosThetaI in [0, 1] (its absolute value is
 /// used). Always in [0, 1] for η, k ≥ 0.
@@ -53,11 +67,14 @@ inline float fresnelConductor(float cosThetaI, float eta, float k) {
     // n² = η² − k² + 2iηk; n² − sin²θ = (η − 1)(η + 1) − k² + cos²θ + 2iηk, written so that
     // η ≈ 1, k = 0 does not lose its digits to cancellation.
     C n2(e * e - kk * kk, 2.0 * e * kk);
-    C w = std::sqrt(C((e - 1.0) * (e + 1.0) - kk * kk + ci * ci, 2.0 * e * kk));
+    C w = principalSqrt((e - 1.0) * (e + 1.0) - kk * kk + ci * ci, 2.0 * e * kk);
     C ds = ci + w, dp = n2 * ci + w;
     // Both denominators vanish only for n = 1 at exact grazing incidence (no interface).
-    if (std::norm(ds) == 0.0 || std::norm(dp) == 0.0) return 0.f;
-    double Rs = std::norm((ci - w) / ds), Rp = std::norm((n2 * ci - w) / dp);
+    const double nds = std::norm(ds), ndp = std::norm(dp);
+    if (nds == 0.0 || ndp == 0.0) return 0.f;
+    // |a / b|² = |a|² / |b|²: no complex division (libgcc's __divdc3 is slow, and its
+    // scaling for huge or tiny operands is not needed for these magnitudes).
+    double Rs = std::norm(ci - w) / nds, Rp = std::norm(n2 * ci - w) / ndp;
     double F = 0.5 * (Rs + Rp);
     return std::isfinite(F) ? float(std::clamp(F, 0.0, 1.0)) : 1.f;
 }
