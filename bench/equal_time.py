@@ -92,6 +92,9 @@ def main():
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--variants", default="llvm_ad_spectral,scalar_spectral")
     ap.add_argument("--repeat", type=int, default=3, help="back-to-back pairs per scene and variant (median)")
+    ap.add_argument("--robust", choices=["default", "on", "off"], default="default",
+                    help="Embree's robust mode for both renderers (scene-level embree_use_robust_intersections); "
+                         "default: each renderer's own default (effigi on, Mitsuba off)")
     ap.add_argument("--make-reference", metavar="SCENE")
     ap.add_argument("--ref-spp", type=int, default=2048)
     args = ap.parse_args()
@@ -114,12 +117,22 @@ def main():
         variants = [v for v in variants if not v.startswith("llvm")]
     print(f"## {datetime.date.today()} — effigi vs Mitsuba {mi.__version__}, {args.spp} spp, "
           f"{os.cpu_count()} cores ({platform.processor() or platform.machine()}), median of {args.repeat}\n")
-    print(f"`python3 {' '.join(sys.argv)}`; load average before: {os.getloadavg()[0]:.2f}\n")
+    print(f"`python3 {' '.join(sys.argv)}`; Embree robust mode: {args.robust}; "
+          f"load average before: {os.getloadavg()[0]:.2f}\n")
     print("| scene | renderer | spp | render s | process s | M samples/s | effigi / Mitsuba samples/s "
           "| relMSE (equal spp) | effigi relMSE at Mitsuba's render time | relMSE effigi / Mitsuba at equal time |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for name in args.scenes.split(","):
         scene, ref_path = SCENES[name]
+        if args.robust != "default":
+            # A copy beside the original (its includes resolve the same way) that sets
+            # Mitsuba's scene-level switch, which both renderers read.
+            text = scene.read_text()
+            flag = f'<boolean name="embree_use_robust_intersections" value="{"true" if args.robust == "on" else "false"}"/>'
+            at = text.index(">", text.index("<scene")) + 1
+            copy = scene.parent / f".equal-time-robust-{args.robust}.xml"
+            copy.write_text(text[:at] + "\n    " + flag + text[at:])
+            scene = copy
         ref = read_exr(ref_path)
         samples = ref.shape[0] * ref.shape[1] * args.spp
         ef_path = out / f"{name}-effigi.exr"
@@ -146,6 +159,8 @@ def main():
             print(f"| {name} | mitsuba {v} | {args.spp} | {mi_sec:.2f} | {mi_proc:.2f} | {samples / mi_sec / 1e6:.3f} "
                   f"| | {mi_err:.3g} | {eq_err:.3g} | **{eq_err / mi_err:.2f}** |")
             sys.stdout.flush()
+        if args.robust != "default":
+            scene.unlink()
 
 
 if __name__ == "__main__":

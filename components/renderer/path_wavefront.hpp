@@ -36,11 +36,17 @@ public:
                     TileStats& stats, const RenderControl& control, PixelVariance& variance) {
         const std::size_t n = std::size_t(extent.x) * std::size_t(extent.y);
         prepare(n);
-        for (std::size_t i = 0; i < n; ++i) {
-            m_pixel[i] = Point2i(offset.x + int(i % std::size_t(extent.x)), offset.y + int(i / std::size_t(extent.x)));
-            m_samplers[i]->startPixel(m_pixel[i]);
-            m_pixelStats[i] = {};
-        }
+        // Paths in 4 x 4 pixel blocks, so that each packet of 16 camera rays is a compact
+        // bundle (and so are, roughly, their first bounces).
+        std::size_t i = 0;
+        for (int by = 0; by < extent.y; by += 4)
+            for (int bx = 0; bx < extent.x; bx += 4)
+                for (int y = by; y < std::min(by + 4, extent.y); ++y)
+                    for (int x = bx; x < std::min(bx + 4, extent.x); ++x, ++i) {
+                        m_pixel[i] = Point2i(offset.x + x, offset.y + y);
+                        m_samplers[i]->startPixel(m_pixel[i]);
+                        m_pixelStats[i] = {};
+                    }
         std::uint64_t done = 0;
         for (std::uint64_t k = range.first; k < range.first + range.count && !control.stopRequested(); ++k, ++done)
             wave(n, k, block, stats);
