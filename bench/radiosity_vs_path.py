@@ -61,7 +61,7 @@ def main():
     ap.add_argument("--res", type=int, default=256)
     ap.add_argument("--elements", type=int, default=2000)
     ap.add_argument("--formfactor", default="hemicube", choices=["hemicube", "analytic", "montecarlo"])
-    ap.add_argument("--solver", default="gaussseidel", choices=["jacobi", "gaussseidel", "southwell", "progressive"])
+    ap.add_argument("--solver", default="gaussseidel", choices=["jacobi", "gaussseidel", "southwell", "progressive", "gmres"])
     ap.add_argument("--effigi", default=ROOT / "build/release/bin/effigi")
     ap.add_argument("--out", default=ROOT / "out/bench")
     ap.add_argument("--threads", type=int, default=0)

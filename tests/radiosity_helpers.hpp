@@ -106,6 +106,20 @@ struct Rig {
     }
 };
 
+/// A render or solve without a progress bar.
+inline RenderControl quiet() {
+    RenderControl c;
+    c.progress = false;
+    return c;
+}
+
+/// Form-factor parameters: the component's name and (name, value) pairs.
+inline Properties formFactorParams(const std::string& name, std::vector<std::pair<std::string, PropertyValue>> values) {
+    Properties p("formfactor", name);
+    for (auto& [k, v] : values) p.set(k, v);
+    return p;
+}
+
 inline Ref<IFormFactor> makeFormFactor(const std::string& name, Properties p, const FormFactorContext& ctx) {
     Ref<IFormFactor> ff = query<IFormFactor>(create("formfactor", name, p));
     REQUIRE(ff);

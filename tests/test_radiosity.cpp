@@ -21,12 +21,6 @@ namespace {
 
 const std::string kCornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/radiosity.xml";
 
-RenderControl quiet() {
-    RenderControl c;
-    c.progress = false;
-    return c;
-}
-
 /// Mean of (R + G + B)/3 over a region given as fractions of the image.
 double regionMean(const Image& img, float x0, float y0, float x1, float y1) {
     double sum = 0.0;
@@ -216,6 +210,12 @@ TEST_CASE("radiosity renderer: a saved solution renders the same image, bad file
         missing["load_solution"] = (dir / "none.rad").string();
         auto s4 = loadCornell(missing);
         CHECK(errorOf([&] { s4->renderer().render(*s4, quiet()); }).find("no such file") != std::string::npos);
+    }
+    SECTION("a device is refused, not read forever") {
+        auto device = base;
+        device["load_solution"] = "/dev/zero";
+        auto s = loadCornell(device);
+        CHECK(errorOf([&] { s->renderer().render(*s, quiet()); }).find("not a regular file") != std::string::npos);
     }
     std::filesystem::remove_all(dir);
 }

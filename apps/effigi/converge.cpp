@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "converge_report.hpp"
 #include "image_io.hpp"
+#include "output_check.hpp"
 
 #include "effigi/core/error.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -123,7 +124,8 @@ int converge(const std::vector<std::string>& args) {
     bool haveReference = !referencePath.empty();
     Image reference;
     if (haveReference) reference = readRGB(referencePath);
-    std::filesystem::create_directories(outDir);
+    // Every file goes into outDir, after all the rendering: probe it first (creates it).
+    requireWritable(std::filesystem::path(outDir) / "convergence.csv");
 
     if (renderers.empty()) renderers.push_back("");
     if (variants.empty()) variants.push_back({"", {}});

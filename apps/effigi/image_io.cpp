@@ -3,6 +3,7 @@
 #include "image_io_oiio.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/core/module.hpp"
 #include "effigi/spectral/colorspace.hpp"
 
@@ -109,6 +110,9 @@ oiio::ReadRGB oiioReader(const std::filesystem::path& forFile) {
 } // namespace
 
 Image readRGB(const std::filesystem::path& path) {
+    // A regular file only: the readers read to the end (/dev/zero has none), and opening
+    // a FIFO would wait for a writer.
+    regularFileSize(path, "image");
     if (isExr(path)) return readExr(path);
     Image img;
     std::string error;

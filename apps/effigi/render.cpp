@@ -1,5 +1,6 @@
 // effigi render: load a scene, render it with its renderer, write the film.
 #include "commands.hpp"
+#include "output_check.hpp"
 
 #include "effigi/core/log.hpp"
 #include "effigi/core/module.hpp"
@@ -8,12 +9,16 @@
 #include "effigi/render/progressive.hpp"
 #include "effigi/xml/loader.hpp"
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <sys/resource.h>
+
+#include "spectral_exr.hpp"  // components/film: the name of the spectral EXR beside the output
 
 namespace effigi::app {
 
@@ -79,6 +84,19 @@ void printWorkStats(const RenderStats& stats) {
                 share(w.shadeSeconds), share(w.cameraSeconds), share(w.filmSeconds));
 }
 
+/// The files the film will write for -o `out` (hdrfilm: the EXR, the PNG beside it, the
+/// spectral EXR when it has bins), each probed now: a path that cannot be written fails
+/// before the render, not after it. A dry run creates no folder.
+void checkOutputs(std::filesystem::path out, const IFilm& film, bool dryRun) {
+    if (!out.has_extension()) out += ".exr";  // as the film does
+    std::vector<std::filesystem::path> files{out};
+    std::string ext = out.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".exr") files.push_back(std::filesystem::path(out).replace_extension(".png"));
+    if (film.spectralBins() > 0) files.push_back(spectral_exr::spectralPath(out));
+    for (const auto& f : files) requireWritable(f, !dryRun);
+}
+
 } // namespace
 
 int render(const std::vector<std::string>& args) {
@@ -121,6 +139,7 @@ int render(const std::vector<std::string>& args) {
     auto t0 = std::chrono::steady_clock::now();
     std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    checkOutputs(outPath, scene->camera().film(), dryRun);
     if (dryRun) {
         // Load only: every element parsed and every component created (so every error a
         // render would report up front is reported), nothing rendered or written.

@@ -4,6 +4,7 @@
 // <name>-eta.csv and <name>-k.csv: Mitsuba's preset names, data from refractiveindex.info,
 // see data/README.md), or an explicit complex index η + ik, or "none" — a 100 % mirror
 // (η = 0, k = 1).
+#include "effigi/core/input.hpp"
 #include "effigi/core/properties.hpp"
 #include "effigi/core/schema.hpp"
 #include "effigi/interfaces/itexture.hpp"
@@ -63,7 +64,8 @@ inline ConductorIOR readConductorIOR(const Properties& p) {
     }
     if (p.has("eta") || p.has("k"))
         failAt(p.whereOf(p.has("eta") ? "eta" : "k"),
-               "{}: give either 'material' or 'eta' and 'k', not both (material = '{}')", p.describe(), material);
+               "{}: give either 'material' or 'eta' and 'k', not both (material = '{}')", p.describe(),
+               excerpt(material));
     std::vector<std::string> metals = measuredMetals();
     if (std::find(metals.begin(), metals.end(), material) == metals.end()) {
         if (std::find(std::begin(kMissingPresets), std::end(kMissingPresets), material) != std::end(kMissingPresets))
@@ -71,12 +73,12 @@ inline ConductorIOR readConductorIOR(const Properties& p) {
                    "{}: parameter 'material' = '{}' is a Mitsuba preset that effigi has no data for "
                    "(refractiveindex.info has no usable 360-830 nm measurement, see data/README.md); "
                    "give 'eta' and 'k' instead",
-                   p.describe(), material);
+                   p.describe(), excerpt(material));
         std::vector<std::string> choices = metals;
         choices.push_back("none");
         std::string hint = didYouMean(material, choices);
         failAt(p.whereOf("material"), "{}: parameter 'material' = '{}' has no measured data{} (available: {})",
-               p.describe(), material, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
+               p.describe(), excerpt(material), hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
                fmt::join(choices, ", "));
     }
     return {std::make_shared<ConstantTexture>(namedSpectrum(material + "-eta")),

@@ -6,6 +6,7 @@
 // the state and accessors of ProjectiveCamera.
 // Reference: Mitsuba 3 documentation, "Perspective pinhole camera", "Perspective camera
 // with a thin lens", "Orthographic camera"; PBRT 4th ed., §5.1–5.2.
+#include "effigi/core/input.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/icamera.hpp"
 #include "effigi/interfaces/icamera_importance.hpp"
@@ -94,7 +95,7 @@ inline Vector2f imagePlaneHalfExtent(const Properties& p, Vector2f size) {
         double mm = std::strtod(f.c_str(), &end);
         if (f.empty() || *end != '\0' || !(mm > 0.0) || !std::isfinite(mm))
             failAt(p.whereOf("focal_length"), "{}: parameter 'focal_length' = '{}' must be a positive length like \"50mm\"",
-                   p.describe(), p.getString("focal_length"));
+                   p.describe(), excerpt(p.getString("focal_length")));
         fov = float(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)) * 180.0 / double(Pi));
         axis = "diagonal";
     } else if (fovEntry) {

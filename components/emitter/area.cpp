@@ -44,7 +44,7 @@ public:
     }
 
     explicit AreaEmitter(const Properties& p)
-        : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true) {
+        : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true, "radiance") {
         if (m_emission.mode() != EmissionScale::Mode::Factor && !m_radiance->isConstant())
             failAt(p.whereOf(m_emission.mode() == EmissionScale::Mode::Power ? "power" : "luminance"),
                    "{}: 'luminance' and 'power' need a constant radiance, not a texture", p.describe());
@@ -52,7 +52,9 @@ public:
         // constant radiance, the texture's maximum otherwise.
         m_luminance = m_radiance->isConstant() ? cie::luminance(radiance()) : m_radiance->maxValue();
         // The power target needs the shape's area: preprocess() sets the factor then.
-        if (m_emission.mode() != EmissionScale::Mode::Power) m_scale = m_emission.factor(radiance());
+        // The texture's upper bound is the radiance's peak (radiance() only reads one point).
+        if (m_emission.mode() != EmissionScale::Mode::Power)
+            m_scale = m_emission.factor(radiance(), 0.f, m_radiance->maxValue());
     }
 
     std::uint32_t flags() const override { return EmitterSurface; }
@@ -67,7 +69,7 @@ public:
     void preprocess(const BBox3f&) override {
         if (!m_shape) fail("area emitter must be nested in a shape");
         if (m_emission.mode() == EmissionScale::Mode::Power)
-            m_scale = m_emission.factor(radiance(), Pi * m_shape->area());
+            m_scale = m_emission.factor(radiance(), Pi * m_shape->area(), m_radiance->maxValue());
     }
 
     SampledSpectrum eval(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {

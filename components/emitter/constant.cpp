@@ -40,7 +40,7 @@ public:
     }
 
     explicit ConstantEmitter(const Properties& p) : m_radiance(p.getSpectrum("radiance", SpectrumKind::Illuminant)) {
-        m_radiance = m_radiance.scaled(EmissionScale(p, false).factor(m_radiance));
+        m_radiance = m_radiance.scaled(EmissionScale(p, false, "radiance").factor(m_radiance, 0.f, m_radiance.maxValue()));
         m_luminance = cie::luminance(m_radiance);
     }
 

@@ -62,7 +62,8 @@ public:
         if (!isFinite(d) || !(lengthSquared(d) > 0.f))
             failAt(p.whereOf(where), "{}: the direction must be finite and non-zero", p.describe());
         m_direction = normalize(d);
-        m_irradiance = m_irradiance.scaled(EmissionScale(p, false).factor(m_irradiance));
+        m_irradiance =
+            m_irradiance.scaled(EmissionScale(p, false, "irradiance").factor(m_irradiance, 0.f, m_irradiance.maxValue()));
         m_luminance = cie::luminance(m_irradiance);
     }
 

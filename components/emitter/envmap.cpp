@@ -28,6 +28,7 @@
 #include "effigi/render/bitmap.hpp"
 #include "effigi/render/scene_sphere.hpp"
 #include "effigi/spectral/cie.hpp"
+#include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/upsample.hpp"
 
 namespace effigi {
@@ -67,6 +68,11 @@ public:
         if (image.empty()) failAt(p.whereOf("filename"), "{}: the image is empty", p.describe());
         image.convertToLinear();
         loadTexels(image);
+        // The brightest texel's radiance: its scale times the peak of the normalised D65 (the
+        // sigmoid is at most 1), as radiance() evaluates it.
+        float d65Peak = 0.f;
+        for (int i = 0; i < cie::TableSize; ++i) d65Peak = std::max(d65Peak, cie::D65[i] * m_d65Norm);
+        checkEmittedPeak(p, "filename", double(m_maxTexelScale) * double(d65Peak), double(m_scale));
         buildDistribution(p.getBool("mis_compensation"));
     }
 
@@ -145,6 +151,7 @@ private:
                 rgb = glm::max(rgb, Vector3f(0.f));
                 Texel& t = m_texels[index(x, y)];
                 t.scale = 2.f * maxComponent(rgb);
+                m_maxTexelScale = std::max(m_maxTexelScale, t.scale);
                 if (t.scale > 0.f) t.poly = table(rgb / t.scale);
                 m_luminance[index(x, y)] = dot(rgb, Vector3f(0.2126f, 0.7152f, 0.0722f));
             }
@@ -234,6 +241,7 @@ private:
     int m_width = 0, m_height = 0;
     float m_scale = 1.f, m_radiantLuminance = 0.f;
     float m_d65Norm = cie::d65Normalization();
+    float m_maxTexelScale = 0.f;  // the brightest texel's scale (load check)
     Transform m_toWorld, m_toLocal;
     Distribution2D m_distribution;
     SceneSphere m_sphere;

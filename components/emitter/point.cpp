@@ -18,6 +18,7 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/math/warp_functions.hpp"
+#include "effigi/render/scene_range.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
@@ -53,11 +54,12 @@ public:
         } else {
             m_position = p.getTransform("to_world").point(Point3f(0.f));
         }
-        if (!isFinite(m_position))
-            failAt(p.whereOf(p.has("position") ? "position" : "to_world"), "{}: the position is not finite",
-                   p.describe());
-        EmissionScale emission(p, true);
-        m_intensity = m_intensity.scaled(emission.factor(m_intensity, 4.f * Pi));
+        if (!inSceneRange(m_position))
+            failAt(p.whereOf(p.has("position") ? "position" : "to_world"),
+                   "{}: the position is not finite or beyond effigi's coordinate range ±{:g}", p.describe(),
+                   MaxSceneCoordinate);
+        EmissionScale emission(p, true, "intensity");
+        m_intensity = m_intensity.scaled(emission.factor(m_intensity, 4.f * Pi, m_intensity.maxValue()));
         m_luminance = cie::luminance(m_intensity);
     }
 

@@ -28,6 +28,8 @@
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/interfaces/itexture_resolution.hpp"
 #include "effigi/math/warp_functions.hpp"
+#include "effigi/render/scene_range.hpp"
+#include "effigi/spectral/emission_scale.hpp"
 
 namespace effigi {
 namespace {
@@ -60,7 +62,12 @@ public:
         m_toWorld = toWorld;
         m_toLocal = toWorld.inverse();
         m_position = toWorld.point(Point3f(0.f));
+        if (!inSceneRange(m_position))
+            failAt(p.whereOf("to_world"), "{}: the position is beyond effigi's coordinate range ±{:g}", p.describe(),
+                   MaxSceneCoordinate);
         m_axis = normalize(toWorld.vector(Vector3f(0.f, 0.f, 1.f)));
+        // The irradiance it casts is π · scale · texture (see above).
+        checkEmittedPeak(p, "irradiance", double(Pi) * double(m_irradiance->maxValue()), double(m_scale));
         Vector2i res(1);
         if (auto* r = query<ITextureResolution>(static_cast<IComponent*>(m_irradiance.get())))
             res = r->resolution();

@@ -25,6 +25,7 @@
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/math/warp_functions.hpp"
+#include "effigi/render/scene_range.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
@@ -66,6 +67,9 @@ public:
         m_axis = toWorld.vector(Vector3f(0.f, 0.f, 1.f));
         if (!isFinite(m_position) || !isFinite(m_axis) || !(lengthSquared(m_axis) > 0.f))
             failAt(p.whereOf("to_world"), "{}: to_world must be finite and invertible", p.describe());
+        if (!inSceneRange(m_position))
+            failAt(p.whereOf("to_world"), "{}: the position is beyond effigi's coordinate range ±{:g}", p.describe(),
+                   MaxSceneCoordinate);
         m_axis = normalize(m_axis);
         m_cutoff = degToRad(p.getFloat("cutoff_angle"));
         float beam = p.has("beam_width") ? degToRad(p.getFloat("beam_width")) : 0.75f * m_cutoff;
@@ -84,8 +88,8 @@ public:
             m_texture = p.getTexture("texture", SpectrumKind::Reflectance);
             m_uvFactor = std::tan(m_cutoff);
         }
-        EmissionScale emission(p, true);
-        m_intensity = m_intensity.scaled(emission.factor(m_intensity, m_coneSolidAngle));
+        EmissionScale emission(p, true, "intensity");
+        m_intensity = m_intensity.scaled(emission.factor(m_intensity, m_coneSolidAngle, m_intensity.maxValue()));
         m_luminance = cie::luminance(m_intensity);
     }
 

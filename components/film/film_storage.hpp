@@ -13,6 +13,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 #include <mutex>
 #include <set>
 
@@ -80,9 +82,14 @@ public:
         m_channels = channels;
         m_outputNames = std::move(out);
         m_data.assign(std::size_t(m_size.x) * std::size_t(m_size.y) * (channels.size() + 1), 0.f);
+        m_overflowed = 0;
+        m_warnedOverflow = m_warnedClamp = false;
     }
 
-    /// Add a block, border included, clipped to the window (thread-safe).
+    /// Add a block, border included, clipped to the window (thread-safe). A block pixel
+    /// whose sums are not finite, or would overflow the film's, stays off the film whole
+    /// (its weight too) and is counted: renderers keep NaN/Inf samples off the film, but
+    /// finite samples near float's limit can still add up to Inf.
     void put(const ImageBlock& block) {
         const int n = block.stride();
         if (block.channels() != int(m_channels.size()))
@@ -92,16 +99,24 @@ public:
         const int x0 = std::max(lo.x, 0), x1 = std::min(hi.x, m_size.x);
         const int y0 = std::max(lo.y, 0), y1 = std::min(hi.y, m_size.y);
         if (x0 >= x1 || y0 >= y1) return;
-        const std::size_t count = std::size_t(x1 - x0) * std::size_t(n);
         std::lock_guard lock(m_mutex);
         for (int y = y0; y < y1; ++y) {
             const float* src = block.pixel(x0, y);
             float* dst = m_data.data() + (std::size_t(y) * std::size_t(m_size.x) + std::size_t(x0)) * std::size_t(n);
-            for (std::size_t k = 0; k < count; ++k) dst[k] += src[k];
+            for (int x = x0; x < x1; ++x, src += n, dst += n) {
+                bool finite = true;
+                for (int k = 0; k < n; ++k) finite &= std::isfinite(dst[k] + src[k]);
+                if (!finite) {
+                    ++m_overflowed;
+                    continue;
+                }
+                for (int k = 0; k < n; ++k) dst[k] += src[k];
+            }
         }
     }
 
     /// Colour in the pixel format (RGB of the colour space for rgb/rgba), then the AOVs.
+    /// Every value is finite (finiteValues()).
     Image develop() const {
         std::lock_guard lock(m_mutex);
         Image img = emptyImage(m_outputNames);
@@ -127,6 +142,7 @@ public:
             }
             for (int c : m_copied) dst[o++] = src[c] * inv;
         }
+        finiteValues(img);
         return img;
     }
 
@@ -150,10 +166,33 @@ public:
             }
             for (int b = 0; b < bins; ++b) dst[3 + b] = src[m_binFirst + b] * inv;
         }
+        finiteValues(img);
         return img;
     }
 
 private:
+    /// The sums are finite, but a weighted average can still overflow (a large sum over a
+    /// tiny weight from a filter's tail or negative lobes, or the colour matrix on values
+    /// near float's limit): such a value becomes ±FLT_MAX (NaN: 0), so that no image holds
+    /// Inf or NaN. Said once per render with the count, and with the pixels kept off in put().
+    void finiteValues(Image& img) const {
+        std::size_t clamped = 0;
+        for (float& v : img.pixels)
+            if (!std::isfinite(v)) {
+                v = std::isnan(v) ? 0.f : std::copysign(FLT_MAX, v);
+                ++clamped;
+            }
+        if (m_overflowed > 0 && !m_warnedOverflow) {
+            m_warnedOverflow = true;
+            log::warn("film: {} pixel contribution(s) of rendered blocks were kept off the film: their sums would "
+                      "overflow float", m_overflowed);
+        }
+        if (clamped > 0 && !m_warnedClamp) {
+            m_warnedClamp = true;
+            log::warn("film: {} developed value(s) overflowed float and were clamped to ±{:g}", clamped, FLT_MAX);
+        }
+    }
+
     /// An image of the window's size with these channels, zeroed; no pixels if not
     /// prepared. Call with the mutex held.
     Image emptyImage(std::vector<std::string> names) const {
@@ -175,6 +214,8 @@ private:
     std::vector<std::string> m_channels, m_outputNames;
     std::vector<int> m_copied;        // channels written as they are (AOVs)
     std::vector<float> m_data;        // per pixel: channel sums, then the weight sum
+    std::uint64_t m_overflowed = 0;   // block pixels put() kept off the film
+    mutable bool m_warnedOverflow = false, m_warnedClamp = false;
     mutable std::mutex m_mutex;
 };
 

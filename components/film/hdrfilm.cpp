@@ -16,6 +16,11 @@
  * Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3), 2021 (spectral_exr.hpp).
  * The PNG is display-referred sRGB whatever `colorspace` is: exposure, then `tonemap`.
  *
+ * Limits: a film whose buffers do not fit in the machine's memory is refused with its
+ * size when created and when a renderer prepares its channels. No developed value or file
+ * holds Inf or NaN: a block pixel whose sums would overflow stays off the film, a value
+ * beyond float's (or float16's) range is clamped to it; both are said once with a count.
+ *
  * Parameters (Mitsuba 3 compatible):
  *   width, height          int, 768 x 576        full film size in pixels
  *   crop_offset_x/_y       int, 0                crop window origin
@@ -43,9 +48,13 @@
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/ifilter.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <memory>
+#include <thread>
 
 namespace effigi {
 namespace {
@@ -66,6 +75,37 @@ std::size_t choose(const Properties& p, const std::string& name, const std::vect
         failAt(p.whereOf(name), "{}: '{}' must be one of {}, got '{}'", p.describe(), name,
                fmt::join(choices, ", "), v);
     return std::size_t(it - choices.begin());
+}
+
+/// Bytes of memory this machine can give a process: its physical memory, or the cgroup
+/// (v2) limit of the container it runs in when that is lower. 0 when unknown.
+double availableMemory() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    double bytes = pages > 0 && page > 0 ? double(pages) * double(page) : 0.0;
+    std::ifstream cg("/sys/fs/cgroup/memory.max");
+    double limit = 0.0;
+    if (cg >> limit && limit > 0.0 && (bytes == 0.0 || limit < bytes)) bytes = limit;  // "max" reads as nothing
+    return bytes;
+}
+
+/// Refuses (at `where`, naming the film `name`) a film whose buffers cannot fit in this
+/// machine's memory, before anything is allocated: the sums of `channels` channels and
+/// the weight, the developed image of `outputs` channels with its float16 copy and the
+/// PNG preview's linear floats and bytes (held while writing), and one tile block per
+/// thread. The limit is the machine's, not a constant: large films on big machines pass.
+void checkFilmMemory(const SourceLocation& where, const std::string& name, Vector2i size, int channels, int outputs) {
+    constexpr double GiB = 1024.0 * 1024.0 * 1024.0;
+    constexpr int Tile = 64;  // bound on a renderer's tile side (32) plus a filter border
+    const double pixels = double(size.x) * double(size.y);
+    const double sums = pixels * 4.0 * double(channels + 1);
+    const double written = pixels * ((4.0 + 2.0) * double(outputs) + 4.0 * 3.0 + 3.0);
+    const double blocks = double(std::max(1u, std::thread::hardware_concurrency())) * Tile * Tile * 4.0 * (channels + 1);
+    const double need = sums + written + blocks, have = availableMemory();
+    if (have > 0.0 && need > have)
+        failAt(where,
+               "{}: film {}x{} with {} floats per pixel needs {:.1f} GiB ({:.1f} GiB of sums, {:.1f} GiB to develop and "
+               "write), more than the {:.1f} GiB of memory this machine has; render a smaller film or crop window",
+               name, size.x, size.y, channels + 1, need / GiB, sums / GiB, (written + blocks) / GiB, have / GiB);
 }
 
 class HDRFilm final : public Implements<IFilm> {
@@ -138,6 +178,12 @@ public:
         if (bins < 0 || bins > SpectralBinning::MaxBins)
             failAt(p.whereOf("spectral_bins"), "{}: 'spectral_bins' = {} is not in [0, {}]", p.describe(), bins,
                    SpectralBinning::MaxBins);
+        // Checked now with the channels every colour renderer splats (X, Y, Z and the bins),
+        // again in prepare() with the renderer's own.
+        const int outputs = format == PixelFormat::RGBA ? 4 : format == PixelFormat::Luminance ? 1 : 3;
+        m_sizeWhere = p.whereOf("width");
+        m_name = p.describe();
+        checkFilmMemory(m_sizeWhere, m_name, m_size, 3 + int(bins), outputs + (bins > 0 ? 3 + int(bins) : 0));
         m_storage = std::make_unique<hdrfilm_io::FilmStorage>(m_size, format, colorSpace,
                                                               SpectralBinning(int(bins), lo, hi));
 
@@ -159,7 +205,11 @@ public:
         return {m_storage->bins().lambdaMin(), m_storage->bins().lambdaMax()};
     }
 
-    void prepare(const std::vector<std::string>& channels) override { m_storage->prepare(channels); }
+    void prepare(const std::vector<std::string>& channels) override {
+        const int colour = channels.size() >= 3 && channels[0] == "X" ? 3 : 0;  // become 1-4 output channels
+        checkFilmMemory(m_sizeWhere, m_name, m_size, int(channels.size()), int(channels.size()) - colour + 4);
+        m_storage->prepare(channels);
+    }
     ImageBlock createBlock(Point2i offset, Vector2i size) const override {
         return ImageBlock(offset, size, m_storage->channels(), &m_table);
     }
@@ -238,6 +288,8 @@ private:
     Ref<IFilter> m_filter;
     FilterTable m_table;
     std::unique_ptr<hdrfilm_io::FilmStorage> m_storage;  // channels, sums, development
+    SourceLocation m_sizeWhere;                          // for prepare()'s memory check
+    std::string m_name;
 };
 
 } // namespace

@@ -20,6 +20,7 @@
 #include <ImfStringAttribute.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <exception>
@@ -58,16 +59,33 @@ inline void writeExr(const fs::path& path, const Image& img, bool half, const RG
             header.insert(key, Imf::StringAttribute(value));
         }
         // The output frame buffer must have the file's pixel type: halves are converted
-        // here (round to nearest, overflow to infinity as IEEE 754 binary16).
+        // here (round to nearest). No file gets Inf or NaN: beyond binary16's ±65504 (a
+        // radiance of 1e5 is bright but legitimate) a value is clamped to that limit, a
+        // non-finite float to ±FLT_MAX (NaN: 0), and the count is said.
         std::vector<Imath::half> halves;
+        std::vector<float> finite;
         char* base = reinterpret_cast<char*>(const_cast<float*>(img.pixels.data()));
-        std::size_t size = sizeof(float);
+        std::size_t size = sizeof(float), clamped = 0;
+        const float limit = half ? float(HALF_MAX) : FLT_MAX;
+        auto clamp = [&](float v) {
+            if (std::abs(v) <= limit) return v;
+            ++clamped;
+            return std::isnan(v) ? 0.f : std::copysign(limit, v);
+        };
         if (half) {
             halves.reserve(img.pixels.size());
-            for (float v : img.pixels) halves.push_back(Imath::half(v));
+            for (float v : img.pixels) halves.push_back(Imath::half(clamp(v)));
             base = reinterpret_cast<char*>(halves.data());
             size = sizeof(Imath::half);
+        } else if (!std::all_of(img.pixels.begin(), img.pixels.end(), [](float v) { return std::isfinite(v); })) {
+            finite.reserve(img.pixels.size());
+            for (float v : img.pixels) finite.push_back(clamp(v));
+            base = reinterpret_cast<char*>(finite.data());
         }
+        if (clamped > 0)
+            log::warn("{}: {} value(s) beyond {} were clamped to ±{:g}{}", path.string(), clamped,
+                      half ? "float16's range" : "the float range", limit,
+                      half ? " (component_format float32 keeps them)" : "");
         const std::size_t xStride = size * std::size_t(img.channels());
         const std::size_t yStride = xStride * std::size_t(img.width);
         const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;

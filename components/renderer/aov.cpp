@@ -14,6 +14,7 @@
 // Reference: Mitsuba 3, src/integrators/aov.cpp (names, layout).
 #include "sampled_renderer.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/irenderer.hpp"
@@ -120,7 +121,7 @@ private:
             if (item.empty()) continue;
             auto colon = item.find(':');
             if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
-                failAt(p.whereOf("aovs"), "renderer 'aov': entry '{}' of 'aovs' must be name:type", item);
+                failAt(p.whereOf("aovs"), "renderer 'aov': entry '{}' of 'aovs' must be name:type", excerpt(item));
             std::string name = item.substr(0, colon), type = item.substr(colon + 1);
             const auto& kinds = aovKinds();
             auto it = std::find_if(kinds.begin(), kinds.end(), [&](const AovKind& k) { return type == k.name; });
@@ -128,7 +129,7 @@ private:
                 std::vector<std::string> names;
                 for (const AovKind& k : kinds) names.push_back(k.name);
                 std::string hint = didYouMean(type, names);
-                failAt(p.whereOf("aovs"), "renderer 'aov': unknown AOV type '{}'{} (types: {})", type,
+                failAt(p.whereOf("aovs"), "renderer 'aov': unknown AOV type '{}'{} (types: {})", excerpt(type),
                        hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), fmt::join(names, ", "));
             }
             m_aovs.push_back({it->type, int(m_channels.size() - first)});

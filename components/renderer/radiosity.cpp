@@ -3,7 +3,7 @@
 // First (once per scene) the scene's diffuse and emitting surfaces are meshed (nested
 // `mesh`, default uniform), form factors are computed by the nested `formfactor`
 // (default hemicube) and B = E + ρ F B is solved by the nested `solver` (default
-// gaussseidel) — or a solution saved earlier is loaded (load_solution), so that a
+// gmres) — or a solution saved earlier is loaded (load_solution), so that a
 // walk-through renders many views from one solve. Then each pixel sample casts one ray
 // from the camera and shows the radiance B/π of the surface it hits: interpolated from
 // the vertices (Gouraud 1971) or constant over each element (shading = "constant"). The

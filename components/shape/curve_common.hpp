@@ -24,6 +24,7 @@
 #include "curve_file.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/render/shape_base.hpp"
 
 #include <algorithm>
@@ -264,10 +265,12 @@ public:
             failAt(p.whereOf("emitter"), "{}: a {} cannot be an area emitter (as in Mitsuba 3, curves "
                    "have no area sampling)", p.describe(), kind);
         std::string file = p.getPath("filename").string();
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(file, ec))
-            failAt(p.whereOf("filename"), "{}: {} file '{}' not found", p.describe(), kind, file);
-        m_file = readCurveFile(file, m_toWorld, minPoints, kind);
+        try {
+            regularFileSize(file, fmt::format("{} file", kind));  // no device, FIFO, folder: getline reads to the end
+            m_file = readCurveFile(file, m_toWorld, minPoints, kind);
+        } catch (const Error& e) {  // the file's own problem, prefixed with where the scene names it
+            failAt(p.whereOf("filename"), "{}: {}", p.describe(), e.what());
+        }
         m_fileName = file;
     }
 

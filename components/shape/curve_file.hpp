@@ -2,7 +2,7 @@
 // The control-point files of Mitsuba's curve shapes (linearcurve, bsplinecurve): one point
 // "x y z radius" per line, a blank line starts a new curve; positions go through to_world,
 // radii do not (Mitsuba 3 documentation, "Linear curve").
-#include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/math/transform.hpp"
 
 #include <cstdint>
@@ -52,11 +52,11 @@ inline CurveFile readCurveFile(const std::string& file, const Transform& toWorld
         for (double& x : v) {
             char* end;
             x = std::strtod(cur, &end);
-            if (end == cur) failAt({file, lineNo}, "expected 4 numbers 'x y z radius', got '{}'", line);
+            if (end == cur) failAt({file, lineNo}, "expected 4 numbers 'x y z radius', got '{}'", excerpt(line));
             cur = end;
         }
         if (std::string(cur).find_first_not_of(space) != std::string::npos)
-            failAt({file, lineNo}, "unexpected text after 'x y z radius': '{}'", line);
+            failAt({file, lineNo}, "unexpected text after 'x y z radius': '{}'", excerpt(line));
         if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
             failAt({file, lineNo}, "control point position is not finite");
         if (!(v[3] >= 0.0) || !std::isfinite(v[3]))

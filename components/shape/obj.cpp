@@ -7,6 +7,7 @@
 // materials (mtllib) are ignored. A corner `v/vt/vn` triple becomes one vertex.
 // Reference: Wavefront Technologies, "Object Files (.obj)", Advanced Visualizer manual;
 // Mitsuba 3 documentation, "Wavefront OBJ mesh loader (obj)".
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/render/shape_base.hpp"
@@ -21,15 +22,14 @@
 namespace effigi {
 namespace {
 
-/// First line of a tinyobjloader message, for a one-line error.
+/// First line of a tinyobjloader message, for a one-line error (escaped: it may quote the file).
 std::string firstLine(const std::string& s) {
     std::string r = s.substr(0, s.find('\n'));
-    return r.empty() ? "parse error" : r;
+    return r.empty() ? "parse error" : excerpt(r, 200);
 }
 
 TriangleMesh loadObj(const std::string& file, bool flipTexCoords) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec)) fail("{}: cannot open OBJ file (no such file)", file);
+    regularFileSize(file, "OBJ file");  // refuses devices and FIFOs: tinyobjloader reads to the end
     std::ifstream in(file);
     if (!in) fail("{}: cannot open OBJ file", file);
     tinyobj::attrib_t attrib;
@@ -132,7 +132,13 @@ public:
 
     explicit Obj(const Properties& p) : MeshShape(p) {
         std::string file = p.getPath("filename").string();
-        setMesh(loadObj(file, p.getBool("flip_tex_coords")), file);
+        TriangleMesh mesh;
+        try {
+            mesh = loadObj(file, p.getBool("flip_tex_coords"));
+        } catch (const Error& e) {  // the file's own problem, prefixed with where the scene names it
+            failAt(p.whereOf("filename"), "{}: {}", p.describe(), e.what());
+        }
+        setMesh(std::move(mesh), file);
     }
 };
 

@@ -28,7 +28,12 @@ public:
 
     explicit Ply(const Properties& p) : MeshShape(p) {
         std::string file = p.getPath("filename").string();
-        TriangleMesh mesh = readPly(file);
+        TriangleMesh mesh;
+        try {
+            mesh = readPly(file);
+        } catch (const Error& e) {  // the file's own problem, prefixed with where the scene names it
+            failAt(p.whereOf("filename"), "{}: {}", p.describe(), e.what());
+        }
         if (p.getBool("flip_tex_coords"))
             for (Point2f& uv : mesh.uvs) uv.y = 1.f - uv.y;
         setMesh(std::move(mesh), file);

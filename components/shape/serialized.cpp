@@ -18,6 +18,7 @@
 // smooth vertex normals; effigi's other meshes do not either).
 // Reference: Mitsuba 3 documentation, "Serialized mesh loader (serialized)";
 // P. Deutsch, J.-L. Gailly, "ZLIB Compressed Data Format Specification", RFC 1950, 1996.
+#include "effigi/core/input.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/render/shape_base.hpp"
 
@@ -144,11 +145,11 @@ void seekToMesh(std::ifstream& in, const std::string& file, std::uint16_t versio
 }
 
 TriangleMesh readSerialized(const std::string& file, std::int64_t index, bool skipNormals) {
+    // A regular file only: the counts below are bounded by its size, and a device or FIFO
+    // has none (reading /dev/zero would inflate forever).
+    const std::uint64_t fileSize = regularFileSize(file, "serialized mesh file");
     std::ifstream in(file, std::ios::binary);
     if (!in) fail("{}: cannot open serialized mesh file", file);
-    in.seekg(0, std::ios::end);
-    const std::uint64_t fileSize = std::uint64_t(in.tellg());
-    in.seekg(0);
     std::uint16_t version = readHeader(in, file);
     if (index > 0) seekToMesh(in, file, version, index);
 
@@ -199,7 +200,13 @@ public:
         std::string file = p.getPath("filename").string();
         std::int64_t index = p.getInt("shape_index");
         if (index < 0) failAt(p.whereOf("shape_index"), "{}: parameter 'shape_index' must be >= 0, got {}", p.describe(), index);
-        setMesh(readSerialized(file, index, m_faceNormals), fmt::format("{} (mesh {})", file, index));
+        TriangleMesh mesh;
+        try {
+            mesh = readSerialized(file, index, m_faceNormals);
+        } catch (const Error& e) {  // the file's own problem, prefixed with where the scene names it
+            failAt(p.whereOf("filename"), "{}: {}", p.describe(), e.what());
+        }
+        setMesh(std::move(mesh), fmt::format("{} (mesh {})", file, index));
     }
 };
 

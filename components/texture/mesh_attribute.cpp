@@ -18,6 +18,7 @@
 // Reference: Mitsuba 3 `mesh_attribute` and Mesh::eval_attribute.
 #include "texture_common.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ishape.hpp"
 #include "effigi/interfaces/itexture.hpp"
@@ -45,7 +46,7 @@ public:
         : m_name(p.getString("name")), m_scale(p.getFloat("scale")) {
         if (m_name.rfind("vertex_", 0) != 0 && m_name.rfind("face_", 0) != 0)
             failAt(p.whereOf("name"), "{}: attribute name '{}' must start with 'vertex_' or 'face_'", p.describe(),
-                   m_name);
+                   excerpt(m_name));
         m_colour = m_name.find("color") != std::string::npos;
     }
 

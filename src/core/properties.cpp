@@ -1,5 +1,6 @@
 #include "effigi/core/properties.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/render/constant_texture.hpp"
 #include "effigi/spectral/named.hpp"
@@ -17,7 +18,7 @@ std::string propertyTypeName(const PropertyValue& v) {
 
 std::string Properties::describe() const {
     if (m_type.empty()) return m_tag;
-    return fmt::format("{} '{}'", m_tag, m_type);
+    return fmt::format("{} '{}'", m_tag, excerpt(m_type));  // the type comes from the scene file
 }
 
 void Properties::set(const std::string& name, PropertyValue value, SourceLocation where, bool fromDefault) {

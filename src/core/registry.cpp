@@ -1,5 +1,6 @@
 #include "effigi/core/registry.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/core/module.hpp"
 
@@ -121,7 +122,7 @@ const ComponentInfo& Registry::info(const std::string& tag_, const std::string& 
         if (k == tag) names.push_back(v);
     if (names.empty()) fail("no components of kind '{}' are known", tag);
     std::string hint = didYouMean(name, names);
-    fail("unknown {} '{}'{}; available: {}", tag, name,
+    fail("unknown {} '{}'{}; available: {}", tag, excerpt(name),
          hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), fmt::join(names, ", "));
 }
 

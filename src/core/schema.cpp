@@ -1,5 +1,6 @@
 #include "effigi/core/schema.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 
 #include <mutex>
@@ -210,7 +211,7 @@ void Schema::validate(Properties& props) const {
         }
         if (!spec || spec->multiple) {
             std::string hint = didYouMean(e.name, names);
-            failAt(e.where, "{} has no parameter '{}'{}", props.describe(), e.name,
+            failAt(e.where, "{} has no parameter '{}'{}", props.describe(), excerpt(e.name),
                    hint.empty() ? fmt::format(" (parameters: {})", fmt::join(names, ", "))
                                 : fmt::format(" (did you mean '{}'?)", hint));
         }
@@ -234,7 +235,7 @@ void Schema::validate(Properties& props) const {
             const auto& s = std::get<std::string>(e.value);
             if (std::find(spec->choices.begin(), spec->choices.end(), s) == spec->choices.end()) {
                 std::string hint = didYouMean(s, spec->choices);
-                failAt(e.where, "{}: parameter '{}' = '{}' is not one of {}{}", props.describe(), e.name, s,
+                failAt(e.where, "{}: parameter '{}' = '{}' is not one of {}{}", props.describe(), e.name, excerpt(s),
                        fmt::join(spec->choices, ", "), hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
             }
         }

@@ -3,6 +3,7 @@
 #include "effigi/render/bitmap.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/spectral/colorspace.hpp"
 
 #include <OpenImageIO/imageio.h>
@@ -28,7 +29,7 @@ std::string oneLine(std::string msg) {
 }
 
 [[noreturn]] void cannotRead(const std::filesystem::path& file, const std::string& cause) {
-    fail("{}: {}", file.string(), oneLine(cause));
+    fail("{}: {}", excerpt(file.string(), 200), excerpt(oneLine(cause), 300));
 }
 
 bool lowerEquals(std::string a, const char* b) {
@@ -88,7 +89,7 @@ void checkPng(const std::filesystem::path& file) {
                                std::uint32_t(b[pos + 10 + len]) << 8 | std::uint32_t(b[pos + 11 + len]);
         if ((crc32(b + pos + 4, len + 4) ^ 0xffffffffu) != stored)
             cannotRead(file, fmt::format("corrupt PNG file (checksum mismatch in chunk '{}')",
-                                         std::string(bytes.data() + pos + 4, 4)));
+                                         excerpt(std::string_view(bytes.data() + pos + 4, 4))));
         if (bytes.compare(pos + 4, 4, "IEND") == 0) return;
         pos += 12 + len;
     }
@@ -106,9 +107,9 @@ Bitmap::Bitmap(int width, int height, int channels, std::vector<float> pixels, b
 }
 
 Bitmap Bitmap::load(const std::filesystem::path& file) {
-    std::error_code ec;
-    if (!std::filesystem::exists(file, ec)) cannotRead(file, "no such file");
-    if (std::filesystem::is_directory(file, ec)) cannotRead(file, "is a directory, not an image");
+    // A regular file only: checkPng and the image readers read to the end (/dev/zero has
+    // none), and opening a FIFO would wait for a writer.
+    regularFileSize(file, "image");
     checkPng(file);
     auto in = OIIO::ImageInput::open(file.string());
     if (!in) cannotRead(file, OIIO::geterror());

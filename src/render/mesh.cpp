@@ -76,7 +76,9 @@ BBox3f TriangleMesh::bbox() const {
 float TriangleMesh::triangleArea(std::size_t i) const {
     Point3f p0, p1, p2;
     triangle(i, p0, p1, p2);
-    return 0.5f * length(cross(p1 - p0, p2 - p0));
+    // In double: the squared length of a float cross product overflows for edges beyond
+    // ~1e9, at the edge of the scene range (effigi/render/scene_range.hpp).
+    return float(0.5 * glm::length(glm::cross(Vector3d(p1 - p0), Vector3d(p2 - p0))));
 }
 
 } // namespace effigi

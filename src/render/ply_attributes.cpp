@@ -5,6 +5,7 @@
 // normalised to [0, 1].
 #include "ply_format.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 
 #include <cstring>
@@ -57,7 +58,7 @@ std::vector<AttrGroup> attributeGroups(const Element& e, const std::string& pref
         bool dup = false;
         for (const AttrGroup& o : groups) dup = dup || o.name == cur.name;
         if ((cur.props.size() == 1 || cur.props.size() == 3) && !dup) groups.push_back(cur);
-        else log::warn("{}: PLY attribute '{}' ignored ({})", fileName, cur.name,
+        else log::warn("{}: PLY attribute '{}' ignored ({})", fileName, excerpt(cur.name),
                        dup ? "given twice" : "1 or 3 channels are supported");
         scheme = -1;
     };
@@ -68,7 +69,7 @@ std::vector<AttrGroup> attributeGroups(const Element& e, const std::string& pref
         if (us == std::string::npos || us == 0 || us + 2 != n.size()) {
             flush();
             log::warn("{}: PLY {} property '{}' ignored (attributes are named <prefix>_<x|r|0|1>)", fileName,
-                      e.name, n);
+                      excerpt(e.name), excerpt(n));
             continue;
         }
         std::string p = n.substr(0, us);
@@ -78,7 +79,7 @@ std::vector<AttrGroup> attributeGroups(const Element& e, const std::string& pref
             const char* at = std::strchr(suffix[0], c);
             if (!at || c == '\0') {
                 log::warn("{}: PLY {} property '{}' ignored (first channel must end in _x, _r, _0 or _1)", fileName,
-                          e.name, n);
+                          excerpt(e.name), excerpt(n));
                 continue;
             }
             scheme = int(at - suffix[0]);
@@ -87,7 +88,8 @@ std::vector<AttrGroup> attributeGroups(const Element& e, const std::string& pref
         } else if (cur.props.size() < 4 && suffix[cur.props.size()][scheme] == c) {
             cur.props.push_back(k);
         } else {
-            log::warn("{}: PLY attribute '{}' ignored (channel '{}' out of sequence)", fileName, cur.name, n);
+            log::warn("{}: PLY attribute '{}' ignored (channel '{}' out of sequence)", fileName, excerpt(cur.name),
+                      excerpt(n));
             scheme = -1;
         }
     }

@@ -19,8 +19,6 @@ std::size_t typeSize(Type t);
 /// Integer attribute values divided by the type's largest value (uchar colours 0-255
 /// -> [0, 1]).
 double normalizedInteger(Type t, double v);
-/// A token fit for a one-line message: printable, short.
-std::string printable(std::string_view s);
 
 struct Property {
     std::string name;

@@ -2,7 +2,7 @@
 // typed scalar or list properties, up to end_header. The body is read by ply_reader.cpp.
 #include "ply_format.hpp"
 
-#include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 
 #include <charconv>
 #include <utility>
@@ -55,24 +55,24 @@ public:
             if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
             if (w[0] == "end_header") break;
             if (w[0] == "format") {
-                if (w.size() != 3) error(m_line, "malformed PLY format line '{}'", printable(line));
+                if (w.size() != 3) error(m_line, "malformed PLY format line '{}'", excerpt(line));
                 if (w[1] == "ascii") m_header.format = Format::Ascii;
                 else if (w[1] == "binary_little_endian") m_header.format = Format::BinaryLE;
                 else if (w[1] == "binary_big_endian") m_header.format = Format::BinaryBE;
                 else error(m_line, "unsupported PLY format '{}' (expected ascii, binary_little_endian "
-                                   "or binary_big_endian)", printable(w[1]));
-                if (w[2] != "1.0" && w[2] != "1") error(m_line, "unsupported PLY version '{}'", printable(w[2]));
+                                   "or binary_big_endian)", excerpt(w[1]));
+                if (w[2] != "1.0" && w[2] != "1") error(m_line, "unsupported PLY version '{}'", excerpt(w[2]));
                 haveFormat = true;
             } else if (w[0] == "element") {
                 Element e;
-                if (w.size() != 3) error(m_line, "malformed PLY element line '{}'", printable(line));
+                if (w.size() != 3) error(m_line, "malformed PLY element line '{}'", excerpt(line));
                 e.name = std::string(w[1]);
                 auto [ptr, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
                 if (ec != std::errc() || ptr != w[2].data() + w[2].size())
-                    error(m_line, "PLY element '{}' has an invalid count '{}'", e.name, printable(w[2]));
+                    error(m_line, "PLY element '{}' has an invalid count '{}'", excerpt(e.name), excerpt(w[2]));
                 e.line = m_line;
                 for (const Element& o : elements)
-                    if (o.name == e.name) error(m_line, "PLY element '{}' declared twice", e.name);
+                    if (o.name == e.name) error(m_line, "PLY element '{}' declared twice", excerpt(e.name));
                 elements.push_back(std::move(e));
             } else if (w[0] == "property") {
                 if (elements.empty()) error(m_line, "PLY property declared before any element");
@@ -86,16 +86,17 @@ public:
                 } else {
                     ok = w.size() == 3 && parseType(w[1], p.type);
                 }
-                if (!ok) error(m_line, "malformed PLY property line '{}'", printable(line));
+                if (!ok) error(m_line, "malformed PLY property line '{}'", excerpt(line));
                 p.name = std::string(w.back());
                 elements.back().props.push_back(std::move(p));
             } else {
-                error(m_line, "unknown PLY header keyword '{}'", printable(w[0]));
+                error(m_line, "unknown PLY header keyword '{}'", excerpt(w[0]));
             }
         }
         if (!haveFormat) error(m_line, "PLY header has no 'format' line");
         m_header.bodyPos = m_pos;
         m_header.bodyLine = m_line + 1;  // the body starts on the line after end_header
+        checkCounts();
         return std::move(m_header);
     }
 
@@ -103,6 +104,28 @@ private:
     template <typename... Args>
     [[noreturn]] void error(int line, fmt::format_string<Args...> f, Args&&... a) const {
         failAt(SourceLocation{m_name, line}, f, std::forward<Args>(a)...);
+    }
+
+    /// The declared counts are untrusted: every record takes some bytes of the body, so
+    /// a count the rest of the file cannot hold is refused here, before any reading
+    /// (or reserving) proportional to it. An element without properties has records of
+    /// no bytes; it is skipped whatever its count, as Mitsuba 3 skips it in a binary file
+    /// (by seeking count x 0 bytes).
+    void checkCounts() const {
+        const bool ascii = m_header.format == Format::Ascii;
+        // An ascii value is at least one character and a blank after it (the last value
+        // of the file may end without one, hence the extra byte).
+        std::uint64_t budget = m_data.size() - m_pos + (ascii ? 1 : 0);
+        for (const Element& e : m_header.elements) {
+            std::uint64_t least = 0;  // bytes of the smallest record (a list may be empty)
+            for (const Property& p : e.props) least += ascii ? 2 : typeSize(p.list ? p.countType : p.type);
+            if (least == 0) continue;
+            if (e.count > budget / least)
+                error(e.line, "truncated PLY data: element '{}' declares {} records, more than the rest of the "
+                              "file can hold ({} bytes, {} bytes per record at least)",
+                      excerpt(e.name), e.count, m_data.size() - m_pos, least);
+            budget -= e.count * least;
+        }
     }
 
     bool nextHeaderLine(std::string_view& out) {
@@ -132,14 +155,6 @@ std::size_t typeSize(Type t) {
     case Type::I32: case Type::U32: case Type::F32: return 4;
     default: return 8;
     }
-}
-
-/// A token fit for a one-line message: printable, short.
-std::string printable(std::string_view s) {
-    std::string r;
-    for (char c : s.substr(0, 24)) r += (c >= 0x20 && c < 0x7f) ? c : '?';
-    if (s.size() > 24) r += "...";
-    return r;
 }
 
 Header parseHeader(std::string_view data, const std::string& name) { return HeaderParser(data, name).parse(); }

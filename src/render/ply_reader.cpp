@@ -8,7 +8,7 @@
 
 #include "ply_format.hpp"
 
-#include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 
 #include <algorithm>
@@ -17,8 +17,6 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 namespace effigi {
 namespace {
@@ -57,7 +55,8 @@ private:
 
     // ---- body values ---------------------------------------------------------------
     [[noreturn]] void truncated(const Element& e, std::uint64_t i) const {
-        error(dataLine(), "truncated PLY data: element '{}' record {} of {} is incomplete", e.name, i + 1, e.count);
+        error(dataLine(), "truncated PLY data: element '{}' record {} of {} is incomplete", excerpt(e.name), i + 1,
+              e.count);
     }
 
     /// The next value of type t as a double; false at the end of the data.
@@ -100,7 +99,7 @@ private:
         std::string_view num = !tok.empty() && tok[0] == '+' ? tok.substr(1) : tok;
         auto [ptr, ec] = std::from_chars(num.data(), num.data() + num.size(), out);
         if (ec != std::errc() || ptr != num.data() + num.size())
-            error(m_line, "expected a number in PLY data, got '{}'", printable(tok));
+            error(m_line, "expected a number in PLY data, got '{}'", excerpt(tok));
         return true;
     }
 
@@ -109,7 +108,8 @@ private:
         double c = 0.0;
         if (!value(p.countType, c)) truncated(e, i);
         if (!(c >= 0.0) || c != std::floor(c) || c > 1e12)
-            error(dataLine(), "PLY element '{}' record {}: invalid list length {} for '{}'", e.name, i + 1, c, p.name);
+            error(dataLine(), "PLY element '{}' record {}: invalid list length {} for '{}'", excerpt(e.name), i + 1, c,
+                  excerpt(p.name));
         return std::uint64_t(c);
     }
 
@@ -158,6 +158,7 @@ private:
 
     // ---- elements ------------------------------------------------------------------
     void skipElement(const Element& e) {
+        if (e.props.empty()) return;  // records of no bytes (see checkCounts in ply_header.cpp)
         bool fixed = m_format != Format::Ascii;
         std::size_t stride = 0;
         for (const Property& p : e.props) {
@@ -302,14 +303,7 @@ TriangleMesh readPlyFromMemory(std::string_view data, const std::string& name) {
 }
 
 TriangleMesh readPly(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) fail("{}: cannot open PLY file (no such file)", path.string());
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("{}: cannot open PLY file", path.string());
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) fail("{}: error while reading the PLY file", path.string());
-    std::string data = std::move(buf).str();
+    std::string data = readRegularFile(path, "PLY file");
     return readPlyFromMemory(data, path.string());
 }
 

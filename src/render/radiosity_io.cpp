@@ -6,6 +6,7 @@
 // 64-bit FNV-1a hash of every element's centre, normal and area: a file only loads into
 // a mesh built from the same scene with the same mesh parameters.
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/render/radiosity_mesh.hpp"
 
 #include <bit>
@@ -51,6 +52,7 @@ void saveRadiositySolution(const IMesh& mesh, const std::filesystem::path& file)
 }
 
 void loadRadiositySolution(IMesh& mesh, const std::filesystem::path& file) {
+    regularFileSize(file, "radiosity solution");  // a device or FIFO would never end or block
     std::ifstream in(file, std::ios::binary);
     if (!in) fail("cannot read radiosity solution {}: no such file", file.string());
     std::string header;

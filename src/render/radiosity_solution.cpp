@@ -28,7 +28,7 @@ template <typename I> Ref<I> childOrDefault(const Properties& p, const std::stri
 void RadiositySolution::addParams(Schema& s) {
     s.child("mesh", "mesh", "Elements carrying the solution (default: uniform)");
     s.child("formfactor", "formfactor", "Form-factor method (default: hemicube; twopass: analytic)");
-    s.child("solver", "solver", "Solver of B = E + ρFB (default: gaussseidel)");
+    s.child("solver", "solver", "Solver of B = E + ρFB (default: gmres)");
     s.string("save_solution", "", "Write the solved radiosities to this file (relative to the working directory)");
     s.string("load_solution", "", "Read radiosities saved by save_solution instead of solving");
     s.string("history", "", "Write the solver's residual against iteration and time to this CSV file");
@@ -37,7 +37,7 @@ void RadiositySolution::addParams(Schema& s) {
 RadiositySolution::RadiositySolution(const Properties& p, const std::string& defaultFormFactor)
     : m_mesh(childOrDefault<IMesh>(p, "mesh", "uniform")),
       m_formFactor(childOrDefault<IFormFactor>(p, "formfactor", defaultFormFactor)),
-      m_solver(childOrDefault<ISolver>(p, "solver", "gaussseidel")), m_save(p.getString("save_solution")),
+      m_solver(childOrDefault<ISolver>(p, "solver", "gmres")), m_save(p.getString("save_solution")),
       m_load(p.getString("load_solution")), m_history(p.getString("history")),
       m_saveWhere(p.whereOf("save_solution")), m_loadWhere(p.whereOf("load_solution")),
       m_historyWhere(p.whereOf("history")) {

@@ -4,6 +4,7 @@
 
 #include "effigi/core/error.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
+#include "effigi/render/scene_range.hpp"
 
 namespace effigi {
 
@@ -15,7 +16,12 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
     if (!m_accel) fail("scene has no accelerator");
     if (!m_renderer) fail("scene has no renderer");
 
+    // The loader reports these with the file and line; this catches scenes built in code,
+    // so that no accelerator ever sees an invalid ray (scene_range.hpp).
+    if (std::string why = cameraRangeProblem(*m_camera); !why.empty()) fail("{}: {}", m_camera->typeName(), why);
     for (const auto& s : m_shapes) {
+        if (std::string why = shapeRangeProblem(*s); !why.empty())
+            fail("shape {} ({}): {}", m_shapePtrs.size(), s->typeName(), why);
         m_shapePtrs.push_back(s.get());
         m_bbox.expand(s->bbox());
         if (const IEmitter* e = s->emitter()) m_emitterPtrs.push_back(e);

@@ -5,6 +5,7 @@
 #include "effigi/math/warp_functions.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace effigi {
 
@@ -56,6 +57,23 @@ MeshShape::MeshShape(const Properties& props) : ShapeBase(props) {
 
 namespace {
 
+/// The unit normal along a triangle's edge cross product ng. The common case costs one
+/// reciprocal and three products (this runs at every hit); a cross product whose squared
+/// length overflows float (edges beyond ~1e9, the edge of the scene range of
+/// scene_range.hpp) or underflows (edges below ~1e-10) is first divided by its largest
+/// component, where squaring it directly would give a zero normal: a large emitter that
+/// emits nothing.
+Normal3f unitNormal(Vector3f ng) {
+    float ng2 = dot(ng, ng);
+    if (!(ng2 >= std::numeric_limits<float>::min() && ng2 <= std::numeric_limits<float>::max())) {
+        const float m = maxAbsComponent(ng);
+        if (!(m > 0.f) || !std::isfinite(m)) return Normal3f(0.f, 0.f, 1.f);  // degenerate
+        ng /= m;
+        ng2 = dot(ng, ng);
+    }
+    return ng * (1.f / std::sqrt(ng2));
+}
+
 /// Smooth vertex normals for a mesh that has none: each triangle adds its unit normal
 /// weighted by its angle at the vertex (Thürmer & Wüthrich 1998, "Computing vertex
 /// normals from polygonal facets"), which does not depend on how a face is split into
@@ -90,11 +108,12 @@ void computeVertexNormals(TriangleMesh& m) {
 } // namespace
 
 void MeshShape::setMesh(TriangleMesh mesh, const std::string& what) {
+    // Unlocated errors get the <shape>'s place from the registry (Registry::create).
     mesh.validate(what);
     if (mesh.triangleCount() == 0) fail("{}: mesh has no triangles", what);
     if (m_faceNormals) mesh.normals.clear();
     mesh.transform(m_toWorld);
-    mesh.validate(what);  // a non-finite or huge to_world shows up here
+    mesh.validate(what + " after to_world");  // a non-finite or huge to_world shows up here
     if (m_flipNormals) mesh.flip();
     if (!m_faceNormals && mesh.normals.empty()) computeVertexNormals(mesh);
     m_mesh = std::move(mesh);
@@ -125,11 +144,7 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
     si.t = hit.t;
     si.prim = hit.prim;
     si.primUV = hit.uv;
-    Vector3f ng = cross(p1 - p0, p2 - p0);
-    float ng2 = dot(ng, ng);
-    // One reciprocal and three products per normalisation, not three divisions: this
-    // runs at every hit.
-    si.n = ng2 > 0.f ? ng * (1.f / std::sqrt(ng2)) : Normal3f(0.f, 0.f, 1.f);
+    si.n = unitNormal(cross(p1 - p0, p2 - p0));
 
     Normal3f ns = si.n;
     if (!m_mesh.normals.empty()) {
@@ -195,9 +210,7 @@ PositionSample MeshShape::samplePosition(const Point2f& u) const {
     const Point3f& p1 = m_mesh.positions[idx[1]];
     const Point3f& p2 = m_mesh.positions[idx[2]];
     ps.p = b0 * p0 + b1 * p1 + b2 * p2;
-    Vector3f ng = cross(p1 - p0, p2 - p0);
-    float ng2 = dot(ng, ng);
-    ps.n = ng2 > 0.f ? ng * (1.f / std::sqrt(ng2)) : Normal3f(0.f, 0.f, 1.f);
+    ps.n = unitNormal(cross(p1 - p0, p2 - p0));
     ps.uv = m_mesh.uvs.empty()
                 ? Point2f(b1, b2)
                 : b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];

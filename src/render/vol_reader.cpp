@@ -1,13 +1,11 @@
 // Reader (and writer) for Mitsuba's .vol grid files; see vol_reader.hpp for the layout.
 #include "effigi/render/vol_reader.hpp"
 
-#include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 namespace effigi {
 namespace {
@@ -79,14 +77,7 @@ VolGrid readVolFromMemory(std::string_view b, const std::string& name) {
 }
 
 VolGrid readVol(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) fail("{}: cannot open .vol file (no such file)", path.string());
-    std::ifstream in(path, std::ios::binary);
-    if (!in) fail("{}: cannot open .vol file", path.string());
-    std::ostringstream buf;
-    buf << in.rdbuf();
-    if (in.bad()) fail("{}: error while reading the .vol file", path.string());
-    std::string bytes = std::move(buf).str();
+    std::string bytes = readRegularFile(path, ".vol file");
     return readVolFromMemory(bytes, path.string());
 }
 

@@ -3,9 +3,43 @@
 
 #include "effigi/spectral/cie.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace effigi {
+
+namespace {
+
+/// The one check behind checkEmittedPeak and EmissionScale::factor.
+void checkPeak(const std::string& owner, const std::string& valueParam, const SourceLocation& valueWhere,
+               double peak, const std::string& factorParam, const SourceLocation& factorWhere, double factor) {
+    constexpr const char* why = "one sample times a path's throughput would overflow float";
+    if (!std::isfinite(peak) || peak > MaxEmittedValue)
+        failAt(valueWhere, "{}: '{}' peaks at {:g}, beyond the {:g} an emitter may emit ({})", owner, valueParam,
+               peak, MaxEmittedValue, why);
+    const double emitted = peak * factor;
+    if (!std::isfinite(emitted) || emitted > MaxEmittedValue)
+        failAt(factorWhere, "{}: with '{}' the emitted '{}' peaks at {:g}, beyond the {:g} an emitter may emit ({})",
+               owner, factorParam, valueParam, emitted, MaxEmittedValue, why);
+}
+
+/// Largest value of S on the 1 nm grid of [360, 830] nm (NaN wins: it must be refused).
+double peakOf(const std::function<float(float)>& S) {
+    double peak = 0.0;
+    for (int i = 0; i < cie::TableSize; ++i) {
+        const double v = double(S(float(cie::TableStart + i)));
+        if (std::isnan(v)) return v;
+        peak = std::max(peak, v);
+    }
+    return peak;
+}
+
+} // namespace
+
+void checkEmittedPeak(const Properties& p, const std::string& valueParam, double peak, double factor,
+                      const std::string& factorParam) {
+    checkPeak(p.describe(), valueParam, p.whereOf(valueParam), peak, factorParam, p.whereOf(factorParam), factor);
+}
 
 double radiometricIntegral(const std::function<float(float)>& S) {
     double sum = 0.0;
@@ -30,8 +64,9 @@ void EmissionScale::declare(Schema& s, const std::string& luminanceDoc, const st
             .withUnit("W");
 }
 
-EmissionScale::EmissionScale(const Properties& p, bool powerSupported)
-    : m_scale(p.getFloat("scale")), m_owner(p.describe()) {
+EmissionScale::EmissionScale(const Properties& p, bool powerSupported, const std::string& valueParam)
+    : m_scale(p.getFloat("scale")), m_owner(p.describe()), m_value(valueParam), m_valueWhere(p.whereOf(valueParam)),
+      m_scaleWhere(p.whereOf("scale")) {
     bool lum = p.has("luminance"), pow = p.has("power");
     if (pow && !powerSupported)
         failAt(p.whereOf("power"), "{}: 'power' is not supported (the emitted power is not finite); give 'luminance' "
@@ -50,8 +85,12 @@ EmissionScale::EmissionScale(const Properties& p, bool powerSupported)
         failAt(p.whereOf("scale"), "{}: 'scale' = {} must be finite and not negative", m_owner, m_scale);
 }
 
-float EmissionScale::factor(const std::function<float(float)>& S, float geometry) const {
-    if (m_mode == Mode::Factor) return m_scale;
+float EmissionScale::factor(const std::function<float(float)>& S, float geometry, double peak) const {
+    if (peak < 0.0) peak = peakOf(S);
+    if (m_mode == Mode::Factor) {
+        checkPeak(m_owner, m_value, m_valueWhere, peak, "scale", m_scaleWhere, m_scale);
+        return m_scale;
+    }
     double current = m_mode == Mode::Luminance ? double(cie::luminance(S)) : double(geometry) * radiometricIntegral(S);
     if (!(current > 0.0) || !std::isfinite(current))
         failAt(m_where, "{}: cannot scale to {} {}: the emitter's {} is {}", m_owner, m_param, m_target,
@@ -59,6 +98,7 @@ float EmissionScale::factor(const std::function<float(float)>& S, float geometry
     double k = double(m_scale) * double(m_target) / current;
     if (!std::isfinite(k) || k > 3e38)
         failAt(m_where, "{}: {} {} needs a factor {} beyond the float range", m_owner, m_param, m_target, k);
+    checkPeak(m_owner, m_value, m_valueWhere, peak, m_param, m_where, k);
     return float(k);
 }
 

@@ -3,6 +3,7 @@
 #include "effigi/spectral/glass.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 
 #include <fmt/ranges.h>
 
@@ -105,7 +106,7 @@ Spectrum iorByName(const std::string& name, const SourceLocation& where, const s
     if (std::optional<Spectrum> s = namedIOR(name)) return *s;
     std::vector<std::string> names = namedIORNames();
     std::string hint = didYouMean(name, names);
-    failAt(where, "parameter '{}': unknown material '{}'{} (known: {})", param, name,
+    failAt(where, "parameter '{}': unknown material '{}'{} (known: {})", param, excerpt(name),
            hint.empty() ? "" : fmt::format(", did you mean '{}'?", hint), fmt::join(names, ", "));
 }
 

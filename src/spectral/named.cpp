@@ -4,6 +4,7 @@
 #include "effigi/spectral/named.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/core/module.hpp"
 
 #include <fmt/ranges.h>
@@ -62,14 +63,14 @@ Spectrum readSpectrumCsv(const fs::path& path) {
         if (l.empty() || l.front() == '#') continue;
         SourceLocation where{path.string(), n};
         if (!header) {
-            if (l != "lambda,value") failAt(where, "expected the header 'lambda,value', got '{}'", l);
+            if (l != "lambda,value") failAt(where, "expected the header 'lambda,value', got '{}'", excerpt(l));
             header = true;
             continue;
         }
         std::size_t comma = l.find(',');
         float lambda = 0.f, value = 0.f;
         if (comma == l.npos || !toFloat(l.substr(0, comma), lambda) || !toFloat(l.substr(comma + 1), value))
-            failAt(where, "expected 'wavelength,value' (two finite numbers), got '{}'", l);
+            failAt(where, "expected 'wavelength,value' (two finite numbers), got '{}'", excerpt(l));
         if (!(lambda > 0.f)) failAt(where, "wavelength {} nm is not positive", lambda);
         if (!lambdas.empty() && !(lambda > lambdas.back()))
             failAt(where, "wavelengths must be strictly ascending: {} nm follows {} nm", lambda, lambdas.back());
@@ -109,7 +110,7 @@ Spectrum namedSpectrum(const std::string& name) {
     std::lock_guard<std::mutex> lock(c.mutex);
     if (auto it = c.spectra.find(name); it != c.spectra.end()) return it->second;
 
-    if (!validName(name)) fail("'{}' is not a spectrum name (letters, digits, '-', '_', '.')", name);
+    if (!validName(name)) fail("'{}' is not a spectrum name (letters, digits, '-', '_', '.')", excerpt(name));
     fs::path path = spectraDirectory() / (name + ".csv");
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) {

@@ -4,7 +4,9 @@
 // and a cycle of references is an error naming the chain.
 #include "effigi/xml/loader.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
+#include "effigi/render/scene_range.hpp"
 
 #include <mutex>
 
@@ -42,9 +44,10 @@ struct Builder {
         for (const auto& kv : declared)
             if (!named.count(kv.first)) ids.push_back(kv.first);
         std::sort(ids.begin(), ids.end());
-        if (ids.empty()) failAt(c.where, "<ref id=\"{}\">: unknown id (no object in the scene has an id)", c.refId);
+        if (ids.empty())
+            failAt(c.where, "<ref id=\"{}\">: unknown id (no object in the scene has an id)", excerpt(c.refId));
         std::string hint = didYouMean(c.refId, ids);
-        failAt(c.where, "<ref id=\"{}\">: unknown id{} (ids in the scene: {})", c.refId,
+        failAt(c.where, "<ref id=\"{}\">: unknown id{} (ids in the scene: {})", excerpt(c.refId),
                hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint), fmt::join(ids, ", "));
     }
 
@@ -116,7 +119,7 @@ struct Builder {
                 std::string msg = e.what();
                 // A top-level <integrator> is a renderer in effigi; say what the file says.
                 std::string outer = parent->tag == "renderer" ? "integrator" : parent->tag;
-                failAt(node.where, "{} (inside {} '{}' at {})", msg, outer, parent->type, parent->where.str());
+                failAt(node.where, "{} (inside {} '{}' at {})", msg, outer, excerpt(parent->type), parent->where.str());
             }
         }
         Ref<IComponent> obj;
@@ -126,9 +129,16 @@ struct Builder {
             throw;
         } catch (const std::exception& ex) {
             // A component that throws something else still gets a located, one-line message.
-            failAt(node.where, "{} '{}': {}", tag, node.type, ex.what());
+            failAt(node.where, "{} '{}': {}", tag, excerpt(node.type), ex.what());
         }
-        if (!obj) failAt(node.where, "{} '{}': the component could not be created", tag, node.type);
+        if (!obj) failAt(node.where, "{} '{}': the component could not be created", tag, excerpt(node.type));
+        // Geometry out of range would reach the accelerator as invalid rays: refuse it here,
+        // where the <shape> is known (also inside shapegroups).
+        if (tag == "shape")
+            if (Ref<IShape> shape = query<IShape>(obj))
+                if (std::string why = shapeRangeProblem(*shape); !why.empty())
+                    failAt(node.where, "{}{}: {}", node.props.describe(),
+                           node.id.empty() ? "" : fmt::format(" (id '{}')", excerpt(node.id)), why);
         if (!node.id.empty()) {
             named[node.id] = obj;
             building.pop_back();
@@ -189,6 +199,8 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
         } else if (t == "camera") {
             camera = as<ICamera>(obj, n);
             cameraAt = n.where;
+            if (std::string why = cameraRangeProblem(*camera); !why.empty())
+                failAt(n.where, "{}: {} (check 'to_world' and the clip planes)", n.props.describe(), why);
         } else if (t == "renderer") {
             renderer = as<IRenderer>(obj, n);
             rendererAt = n.where;

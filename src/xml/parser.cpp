@@ -5,6 +5,7 @@
 // which are turned into line numbers so that every node and error can say file:line.
 #include "effigi/xml/parser.hpp"
 
+#include "effigi/core/input.hpp"
 #include "resolver.hpp"
 #include "upgrade.hpp"
 #include "values.hpp"
@@ -15,8 +16,6 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <fstream>
-#include <sstream>
 
 namespace effigi::xml {
 
@@ -39,15 +38,6 @@ const std::vector<std::string> kSpecialTags = {"default", "include", "ref", "pat
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
-}
-
-std::string readFile(const std::filesystem::path& p, bool& ok) {
-    std::ifstream in(p, std::ios::binary);
-    ok = in && !std::filesystem::is_directory(p);
-    if (!ok) return {};
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 /// One XML file being read: its name for errors, directory for relative paths, and
@@ -135,7 +125,7 @@ private:
         bool ok = ec == std::errc() && ptr != v.data();
         for (const char* p = ptr; ok && p != v.data() + v.size(); ++p)
             ok = std::isdigit(static_cast<unsigned char>(*p)) || *p == '.';
-        if (!ok) e.fail("attribute 'version': expected major.minor.patch, got '{}'", v);
+        if (!ok) e.fail("attribute 'version': expected major.minor.patch, got '{}'", excerpt(v));
         return major;
     }
 
@@ -146,7 +136,7 @@ private:
         e.where = f.at(x.offset_debug());
         for (pugi::xml_attribute a : x.attributes()) {
             std::string name = f.oldNames ? upgradeAttribute(e.tag, a.name()) : std::string(a.name());
-            if (e.find(name)) e.fail("attribute '{}' given twice", name);
+            if (e.find(name)) e.fail("attribute '{}' given twice", excerpt(name));
             e.attrs.emplace_back(name, a.value());
         }
         // `name` first, so that errors in the other attributes can name the element.
@@ -165,15 +155,16 @@ private:
         if (e.name.empty() || parent.tag == "scene") return;
         auto [it, fresh] = names.emplace(e.name, e.where);
         if (!fresh)
-            e.fail("duplicate name '{}' in {} '{}' (first given at {})", e.name, parent.tag, parent.type,
-                   it->second.str());
+            e.fail("duplicate name '{}' in {} '{}' (first given at {})", excerpt(e.name), parent.tag,
+                   excerpt(parent.type), it->second.str());
     }
 
     void parseChildren(pugi::xml_node xml, const SourceFile& f, Node& node, NameMap& names) {
         bool topLevel = node.tag == "scene";
         for (pugi::xml_node x : xml.children()) {
             if (x.type() == pugi::node_pcdata || x.type() == pugi::node_cdata)
-                failAt(f.at(x.offset_debug()), "unexpected text '{}' inside <{}>", x.value(), xml.name());
+                failAt(f.at(x.offset_debug()), "unexpected text '{}' inside <{}>", excerpt(x.value()),
+                       excerpt(xml.name()));
             if (x.type() != pugi::node_element) continue;
             std::string tag = f.oldNames ? upgradeTag(x.name()) : std::string(x.name());
             if (tag == "default") {
@@ -199,7 +190,7 @@ private:
                 all.insert(all.end(), kObjectTags.begin(), kObjectTags.end());
                 all.insert(all.end(), kSpecialTags.begin(), kSpecialTags.end());
                 std::string hint = didYouMean(tag, all);
-                failAt(f.at(x.offset_debug()), "unknown element <{}>{}", tag,
+                failAt(f.at(x.offset_debug()), "unknown element <{}>{}", excerpt(tag),
                        hint.empty() ? "" : fmt::format(" (did you mean <{}>?)", hint));
             }
         }
@@ -213,10 +204,16 @@ private:
         // entries and the main scene's folder).
         std::vector<std::filesystem::path> tried;
         std::filesystem::path p = m_resolver.find(rel, f.dir, false, tried);
-        bool ok = false;
-        std::string text = readFile(p, ok);
-        if (!ok) e.fail("cannot open included file '{}' (looked for {})", rel.string(), detail::joinPaths(tried));
         std::error_code ec;
+        if (!std::filesystem::exists(p, ec))
+            e.fail("cannot open included file '{}' (looked for {})", excerpt(rel.string(), 200),
+                   excerpt(detail::joinPaths(tried), 1000));
+        std::string text;
+        try {
+            text = readRegularFile(p, "included file");  // refuses /dev/zero, FIFOs, folders
+        } catch (const Error& err) {
+            e.fail("{}", err.what());
+        }
         std::filesystem::path canon = std::filesystem::weakly_canonical(p, ec);
         if (ec) canon = p;
         if (std::find(m_stack.begin(), m_stack.end(), canon) != m_stack.end()) {
@@ -244,7 +241,8 @@ private:
         std::filesystem::path dir = m_resolver.find(value, f.dir, true, tried);
         std::error_code ec;
         if (!std::filesystem::is_directory(dir, ec))
-            e.fail("folder '{}' not found (looked for {})", value, detail::joinPaths(tried));
+            e.fail("folder '{}' not found (looked for {})", excerpt(value, 200),
+                   excerpt(detail::joinPaths(tried), 1000));
         m_resolver.prepend(dir);
     }
 
@@ -261,7 +259,7 @@ private:
             Transform m;
             for (pugi::xml_node c : x.children()) {
                 if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
-                    e.fail("unexpected text '{}'", c.value());
+                    e.fail("unexpected text '{}'", excerpt(c.value()));
                 if (c.type() != pugi::node_element) continue;
                 Element op = element(c, f, true);
                 op.context = e.describe();
@@ -305,7 +303,7 @@ private:
         if (const std::string* id = e.find("id")) {
             if (id->empty()) e.fail("attribute 'id' is empty");
             auto [it, fresh] = m_ids.emplace(*id, e.where);
-            if (!fresh) e.fail("duplicate id '{}' (first used at {})", *id, it->second.str());
+            if (!fresh) e.fail("duplicate id '{}' (first used at {})", excerpt(*id), it->second.str());
             node->id = *id;
             node->props.setId(*id);
         }
@@ -334,9 +332,7 @@ std::unique_ptr<Node> parseString(const std::string& text, const std::string& fi
 }
 
 std::unique_ptr<Node> parseFile(const std::filesystem::path& path, const ParseOptions& opt) {
-    bool ok = false;
-    std::string text = readFile(path, ok);
-    if (!ok) fail("{}: cannot open scene file", path.string());
+    std::string text = readRegularFile(path, "scene file");
     return Parser(opt).parseTop(text, path.string());
 }
 

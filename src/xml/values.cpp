@@ -4,11 +4,12 @@
 // line, element and attribute.
 #include "values.hpp"
 
+#include "effigi/core/input.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <limits>
 
 namespace effigi::xml::detail {
@@ -33,10 +34,10 @@ bool toDouble(std::string_view s, double& out) {
 /// A finite number in float range, or an error worded by `what` ("attribute 'value'").
 double checkedNumber(const Element& e, std::string_view what, std::string_view text) {
     double v = 0;
-    if (!toDouble(text, v)) e.fail("{}: cannot parse '{}' as a number", what, trim(text));
-    if (!std::isfinite(v)) e.fail("{}: '{}' is not a finite number", what, trim(text));
+    if (!toDouble(text, v)) e.fail("{}: cannot parse '{}' as a number", what, excerpt(trim(text)));
+    if (!std::isfinite(v)) e.fail("{}: '{}' is not a finite number", what, excerpt(trim(text)));
     if (std::abs(v) > double(std::numeric_limits<float>::max()))
-        e.fail("{}: {} is out of the float range", what, trim(text));
+        e.fail("{}: {} is out of the float range", what, excerpt(trim(text)));
     return v;
 }
 
@@ -48,7 +49,7 @@ std::vector<std::string_view> tokens(const Element& e, std::string_view attr, st
     while (start <= text.size()) {
         std::size_t comma = text.find(',', start);
         std::string_view piece = text.substr(start, comma == std::string_view::npos ? text.npos : comma - start);
-        if (trim(piece).empty()) e.fail("attribute '{}': empty entry in '{}'", attr, text);
+        if (trim(piece).empty()) e.fail("attribute '{}': empty entry in '{}'", attr, excerpt(text));
         // Within a comma-separated piece, white space separates further entries.
         std::size_t i = 0;
         while (i < piece.size()) {
@@ -87,7 +88,7 @@ SpectrumValue tabulated(const Element& e, std::string_view text) {
     for (std::string_view tok : tokens(e, "value", compact)) {
         std::size_t colon = tok.find(':');
         if (colon == tok.npos)
-            e.fail("attribute 'value': expected 'wavelength:value' pairs, got '{}'", tok);
+            e.fail("attribute 'value': expected 'wavelength:value' pairs, got '{}'", excerpt(tok));
         double l = checkedNumber(e, "wavelength", tok.substr(0, colon));
         double v = checkedNumber(e, "spectrum value", tok.substr(colon + 1));
         if (l <= 0) e.fail("wavelength {} nm is not positive", l);
@@ -103,13 +104,18 @@ SpectrumValue tabulated(const Element& e, std::string_view text) {
 SpectrumValue spectrumFile(const Element& e, const std::filesystem::path& baseDir) {
     std::filesystem::path rel = e.require("filename");
     std::filesystem::path p = rel.is_absolute() ? rel : baseDir / rel;
-    std::ifstream in(p);
-    if (!in || std::filesystem::is_directory(p))
-        e.fail("cannot open spectrum file '{}' (looked for {})", rel.string(), p.string());
+    std::string text;
+    try {
+        text = readRegularFile(p, "spectrum file");  // refuses /dev/zero, FIFOs, folders
+    } catch (const Error& err) {
+        e.fail("{}", err.what());
+    }
     SpectrumValue s;
-    std::string line;
-    for (int n = 1; std::getline(in, line); ++n) {
-        std::string_view l = line;
+    std::string_view rest = text;
+    for (int n = 1; !rest.empty(); ++n) {
+        std::size_t nl = rest.find('\n');
+        std::string_view l = rest.substr(0, nl);
+        rest.remove_prefix(nl == rest.npos ? rest.size() : nl + 1);
         l = trim(l.substr(0, l.find('#')));
         if (l.empty()) continue;
         std::size_t i = 0;
@@ -125,7 +131,7 @@ SpectrumValue spectrumFile(const Element& e, const std::filesystem::path& baseDi
         double lambda = 0, value = 0;
         if (cols.size() != 2 || !toDouble(cols[0], lambda) || !toDouble(cols[1], value) ||
             !std::isfinite(lambda) || !std::isfinite(value) || std::abs(value) > 3e38)
-            e.fail("{}: expected two numbers 'wavelength value', got '{}'", where, l);
+            e.fail("{}: expected two numbers 'wavelength value', got '{}'", where, excerpt(l));
         if (lambda <= 0) e.fail("{}: wavelength {} nm is not positive", where, lambda);
         if (!s.lambdas.empty() && float(lambda) <= s.lambdas.back())
             e.fail("{}: wavelengths must be strictly ascending: {} nm follows {} nm", where, lambda,
@@ -133,7 +139,7 @@ SpectrumValue spectrumFile(const Element& e, const std::filesystem::path& baseDi
         s.lambdas.push_back(float(lambda));
         s.values.push_back(float(value));
     }
-    if (s.lambdas.empty()) e.fail("spectrum file '{}' holds no data", p.string());
+    if (s.lambdas.empty()) e.fail("spectrum file '{}' holds no data", excerpt(p.string(), 200));
     return s;
 }
 
@@ -163,7 +169,8 @@ SpectrumValue blackbody(const Element& e) {
 } // namespace
 
 std::string Element::describe() const {
-    std::string s = name.empty() ? fmt::format("<{}>", tag) : fmt::format("<{} name=\"{}\">", tag, name);
+    std::string s = name.empty() ? fmt::format("<{}>", excerpt(tag))
+                                 : fmt::format("<{} name=\"{}\">", excerpt(tag), excerpt(name));
     return context.empty() ? s : s + " in " + context;
 }
 
@@ -185,7 +192,7 @@ void Element::allowOnly(std::initializer_list<std::string_view> allowed) const {
         if (ok) continue;
         std::vector<std::string> cands(allowed.begin(), allowed.end());
         std::string hint = didYouMean(k, cands);
-        fail("unexpected attribute '{}'{}", k, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
+        fail("unexpected attribute '{}'{}", excerpt(k), hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
     }
 }
 
@@ -198,9 +205,9 @@ std::int64_t parseInteger(const Element& e, std::string_view attr, std::string_v
     if (s.size() > 1 && s[0] == '+' && s[1] != '-') s.remove_prefix(1);
     std::int64_t v = 0;
     auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec == std::errc::result_out_of_range) e.fail("attribute '{}': integer '{}' is out of range", attr, s);
+    if (ec == std::errc::result_out_of_range) e.fail("attribute '{}': integer '{}' is out of range", attr, excerpt(s));
     if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
-        e.fail("attribute '{}': cannot parse '{}' as an integer", attr, trim(text));
+        e.fail("attribute '{}': cannot parse '{}' as an integer", attr, excerpt(trim(text)));
     return v;
 }
 
@@ -209,7 +216,7 @@ bool parseBool(const Element& e, std::string_view attr, std::string_view text) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (s == "true") return true;
     if (s == "false") return false;
-    e.fail("attribute '{}': expected 'true' or 'false', got '{}'", attr, text);
+    e.fail("attribute '{}': expected 'true' or 'false', got '{}'", attr, excerpt(text));
 }
 
 std::vector<double> parseList(const Element& e, std::string_view attr, std::string_view text) {
@@ -273,7 +280,7 @@ PropertyValue parseProperty(const Element& e, const std::filesystem::path& baseD
         std::vector<double> v = parseList(e, "value", *value);
         if (v.size() != 1)
             e.fail("attribute 'value': expected one constant, 'wavelength:value' pairs or a spectrum name, got '{}'",
-                   *value);
+                   excerpt(*value));
         SpectrumValue s;
         s.values = {float(v[0])};
         return s;

@@ -1,6 +1,8 @@
 // Scene variables: <default>, -D and $substitution, as in Mitsuba 3 (variables.hpp).
 #include "variables.hpp"
 
+#include "effigi/core/input.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <vector>
@@ -19,7 +21,7 @@ void Variables::declare(const Element& e) {
     e.allowOnly({"name", "value"});
     std::string name = e.require("name");
     const std::string& value = e.require("value");
-    if (!isIdentifier(name)) e.fail("'{}' is not a valid variable name", name);
+    if (!isIdentifier(name)) e.fail("'{}' is not a valid variable name", excerpt(name));
     // As in Mitsuba, the first <default> of a name holds and later ones are skipped: an
     // included fragment may declare the defaults its includer already set.
     if (!m_declared.emplace(name, e.where).second) return;
@@ -55,7 +57,7 @@ std::string Variables::substitute(const std::string& text, const Element& e, con
             std::string hint = didYouMean(var, known);
             e.fail("attribute '{}': undefined variable '${}' (declare it first with <default name=\"{}\" "
                    "value=\"...\"/> or pass -D {}=...){}",
-                   attr, var, var, var, hint.empty() ? "" : fmt::format("; did you mean '${}'?", hint));
+                   excerpt(attr), var, var, var, hint.empty() ? "" : fmt::format("; did you mean '${}'?", hint));
         }
         m_used.insert(var);
         out += *val;

@@ -5,7 +5,7 @@
 // the solution for display.
 //
 // Renderer parameters it adds (see addParams): the children `mesh` (default uniform),
-// `formfactor` (default hemicube, or as the renderer says) and `solver` (default gaussseidel), and the strings
+// `formfactor` (default hemicube, or as the renderer says) and `solver` (default gmres), and the strings
 // save_solution, load_solution and history (file names, relative to the working
 // directory, "" = none). A scene exposes them to the command line with a <default>:
 //   <default name="load_solution" value=""/> ... <string name="load_solution" value="$load_solution"/>
