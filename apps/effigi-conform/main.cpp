@@ -5,6 +5,7 @@
 #include "conformance/conformance.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/worker_threads.hpp"
 
 #include <cstdio>
 #include <cstring>
@@ -120,6 +121,7 @@ int run(const std::vector<std::string>& args) {
 } // namespace
 
 int main(int argc, char** argv) {
+    effigi::WorkerThreadsJoin join;  // workers joined before exit (LeakSanitizer)
     try {
         return run(std::vector<std::string>(argv + 1, argv + argc));
     } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 
 #include "effigi/core/error.hpp"
 #include "effigi/core/module.hpp"
+#include "effigi/core/worker_threads.hpp"
 
 #include <cstdio>
 #include <cstring>
@@ -31,6 +32,7 @@ void usage() {
 } // namespace
 
 int main(int argc, char** argv) {
+    effigi::WorkerThreadsJoin join;  // workers joined before exit (LeakSanitizer)
     if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "help")) {
         usage();
         return argc < 2 ? 1 : 0;
