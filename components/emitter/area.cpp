@@ -50,7 +50,8 @@ public:
                    "{}: 'luminance' and 'power' need a constant radiance, not a texture", p.describe());
         // power() only needs a bound for choosing among lights: the exact luminance of a
         // constant radiance, the texture's maximum otherwise.
-        m_luminance = m_radiance->isConstant() ? cie::luminance(radiance()) : m_radiance->maxValue();
+        m_constant = m_radiance->isConstant();
+        m_luminance = m_constant ? cie::luminance(radiance()) : m_radiance->maxValue();
         // The power target needs the shape's area: preprocess() sets the factor then.
         // The texture's upper bound is the radiance's peak (radiance() only reads one point).
         if (m_emission.mode() != EmissionScale::Mode::Power)
@@ -89,7 +90,7 @@ public:
         // The back side emits nothing; a zero pdf tells the caller to skip the sample.
         if (!(ds.pdf > 0.f) || !std::isfinite(ds.pdf) || !(dot(ds.n, -ds.wi) > 0.f)) return es;
         es.pdf = ds.pdf;
-        es.L = m_radiance->eval(pointOf(ds, -ds.wi), lambda) * m_scale;
+        es.L = radianceAt(ds, -ds.wi, lambda);
         return es;
     }
 
@@ -111,7 +112,7 @@ public:
         es.pdfPosition = ps.pdf;
         es.pdfDirection = warp::squareToCosineHemispherePdf(local);
         if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f)) return es;
-        es.L = m_radiance->eval(pointOf(ps, d), lambda) * m_scale;
+        es.L = radianceAt(ps, d, lambda);
         return es;
     }
 
@@ -124,6 +125,15 @@ private:
     /// The unscaled radiance as a function of wavelength (constant textures only).
     std::function<float(float)> radiance() const {
         return [t = m_radiance](float l) { return t->eval({}, SampledWavelengths::constant(l))[0]; };
+    }
+
+    /// Scaled radiance leaving the sampled point ps toward wo. A constant radiance (nearly
+    /// every scene) is read without building the surface point: this runs at every light
+    /// sample.
+    SampledSpectrum radianceAt(const PositionSample& ps, const Vector3f& wo, const SampledWavelengths& lambda) const {
+        static const SurfaceInteraction anywhere;
+        if (m_constant) return m_radiance->eval(anywhere, lambda) * m_scale;
+        return m_radiance->eval(pointOf(ps, wo), lambda) * m_scale;
     }
 
     /// The surface point a texture is evaluated at.
@@ -143,6 +153,7 @@ private:
     EmissionScale m_emission;
     float m_scale = 1.f;  // scale · luminance/power normalisation
     float m_luminance = 0.f;
+    bool m_constant = false;  // the radiance is the same everywhere
 };
 
 } // namespace
