@@ -9,6 +9,7 @@
 //
 // All scenes and rays are seeded; nothing here depends on timing.
 #include "conformance/accelerator_builder.hpp"  // SuiteMesh
+#include "conform_session.hpp"
 #include "conformance/conformance.hpp"
 
 #include "app_runner.hpp"
@@ -25,6 +26,8 @@
 #include <mutex>
 
 using namespace effigi;
+using effigi::test::sessionTable;
+using effigi::test::verdictOf;
 
 namespace {
 
@@ -228,39 +231,16 @@ void registerFaulty() {
     });
 }
 
-std::string table(const conform::Session& s) {
-    std::string text;
-    for (const conform::Row& r : s.rows())
-        text += fmt::format("{} {} {}: {} | {}\n", conform::verdictName(r.verdict), r.component, r.check, r.figure,
-                            r.detail.substr(0, 400));
-    return text;
-}
-
-conform::Verdict verdictOf(const conform::Session& s, const std::string& component, const std::string& check) {
-    auto rows = s.find(component, check);
-    REQUIRE(rows.size() >= 1);
-    return rows[0]->verdict;
-}
-
 } // namespace
 
 TEST_CASE("accelerators: the conformance suite fails wrong accelerators by the right checks", "[accelerator][conformance]") {
     registerFaulty();
     auto out = test::tempDir("conform-accel");
-    auto run = [&](const std::string& name) {
-        conform::Options o;
-        o.tag = "accelerator";
-        o.component = name;
-        o.quick = true;
-        o.outDir = out;
-        conform::Session s(o);
-        s.run();
-        return s;
-    };
+    auto run = [&](const std::string& name) { return test::runQuickSuite("accelerator", name, out); };
     using conform::Verdict;
     {
         conform::Session s = run("test_grazing_blind");
-        INFO(table(s));
+        INFO(sessionTable(s));
         CHECK(verdictOf(s, "test_grazing_blind", "closest hit grazing") == Verdict::Fail);
         CHECK(verdictOf(s, "test_grazing_blind", "any hit grazing") == Verdict::Fail);
         // Random rays graze now and then too (|cos θ| < 1e-2 for 1 % of them), so other
@@ -270,12 +250,12 @@ TEST_CASE("accelerators: the conformance suite fails wrong accelerators by the r
     }
     {
         conform::Session s = run("test_cracks");
-        INFO(table(s));
+        INFO(sessionTable(s));
         CHECK(verdictOf(s, "test_cracks", "closest hit edges and vertices") == Verdict::Fail);
     }
     {
         conform::Session s = run("test_late_t");
-        INFO(table(s));
+        INFO(sessionTable(s));
         CHECK(verdictOf(s, "test_late_t", "closest hit soup") == Verdict::Fail);
         CHECK(verdictOf(s, "test_late_t", "closest hit cornell") == Verdict::Fail);
         // Its any-hit answers are bruteforce's.

@@ -8,6 +8,7 @@
 // The wrong components are wrong by large factors: their p-values are below 1e-10 and
 // their deterministic figures far outside the tolerances, so the verdicts do not hinge
 // on the seed.
+#include "conform_session.hpp"
 #include "conformance/conformance.hpp"
 #include "conformance_helpers.hpp"
 
@@ -18,6 +19,8 @@
 #include <fstream>
 
 using namespace effigi;
+using effigi::test::sessionTable;
+using effigi::test::verdictOf;
 using namespace effigi::conform;
 using namespace effigi::conformtest;
 
@@ -51,14 +54,6 @@ bool anyIs(const std::vector<Verdict>& v, Verdict want) {
     return std::any_of(v.begin(), v.end(), [&](Verdict x) { return x == want; });
 }
 
-std::string table(const Session& s) {
-    std::string text;
-    for (const Row& r : s.rows())
-        text += fmt::format("{} {} {} {}: {} | {}\n", verdictName(r.verdict), r.component, r.config, r.check, r.figure,
-                            r.detail);
-    return text;
-}
-
 } // namespace
 
 TEST_CASE("conformance: shipped components pass their suites", "[conformance]") {
@@ -67,7 +62,7 @@ TEST_CASE("conformance: shipped components pass their suites", "[conformance]") 
                              std::pair{"warp", "ggx_visible_normals"}, std::pair{"sampler", "independent"},
                              std::pair{"function", "spike"}}) {
         Session s = runOn(tag, name, out);
-        INFO(table(s));
+        INFO(sessionTable(s));
         CHECK(s.count(Verdict::Fail) == 0);
         CHECK(s.count(Verdict::Pass) >= 5);
     }
@@ -77,7 +72,7 @@ TEST_CASE("conformance: shipped components pass their suites", "[conformance]") 
 TEST_CASE("conformance: an energy-gaining diffuse fails 'energy' only", "[conformance]") {
     auto out = test::tempDir("conform-energy");
     Session s = runOn("bsdf", "test_energy_gain", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_energy_gain", "energy"), Verdict::Fail));
     // Its sampling and pdf agree: the distribution checks pass.
     CHECK(allAre(verdicts(s, "test_energy_gain", "chi-square"), Verdict::Pass));
@@ -89,7 +84,7 @@ TEST_CASE("conformance: an energy-gaining diffuse fails 'energy' only", "[confor
 TEST_CASE("conformance: a BSDF whose pdf disagrees with its sampling fails chi-square, with images", "[conformance]") {
     auto out = test::tempDir("conform-pdf");
     Session s = runOn("bsdf", "test_wrong_pdf", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     auto chi = s.find("test_wrong_pdf", "chi-square cos θo = 0.6");
     REQUIRE(chi.size() == 1);
     CHECK(chi[0]->verdict == Verdict::Fail);
@@ -109,7 +104,7 @@ TEST_CASE("conformance: a BSDF whose pdf disagrees with its sampling fails chi-s
 TEST_CASE("conformance: a BSDF returning a different f from sample() fails 'sample weight'", "[conformance]") {
     auto out = test::tempDir("conform-weight");
     Session s = runOn("bsdf", "test_wrong_weight", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_wrong_weight", "sample weight"), Verdict::Fail));
     CHECK(allAre(verdicts(s, "test_wrong_weight", "non-negative"), Verdict::Pass));
     std::filesystem::remove_all(out);
@@ -118,10 +113,10 @@ TEST_CASE("conformance: a BSDF returning a different f from sample() fails 'samp
 TEST_CASE("conformance: a non-reciprocal BSDF and a leaky mirror are caught", "[conformance]") {
     auto out = test::tempDir("conform-recip");
     Session s = runOn("bsdf", "test_nonreciprocal", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_nonreciprocal", "reciprocity"), Verdict::Fail));
     Session m = runOn("bsdf", "test_bad_mirror", out);
-    INFO(table(m));
+    INFO(sessionTable(m));
     CHECK(allAre(verdicts(m, "test_bad_mirror", "delta"), Verdict::Fail));
     CHECK(allAre(verdicts(m, "test_bad_mirror", "stable"), Verdict::Pass));
     std::filesystem::remove_all(out);
@@ -130,7 +125,7 @@ TEST_CASE("conformance: a non-reciprocal BSDF and a leaky mirror are caught", "[
 TEST_CASE("conformance: a BSDF producing NaN at grazing angles fails 'stable'", "[conformance]") {
     auto out = test::tempDir("conform-nan");
     Session s = runOn("bsdf", "test_grazing_nan", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_grazing_nan", "stable"), Verdict::Fail));
     std::filesystem::remove_all(out);
 }
@@ -138,7 +133,7 @@ TEST_CASE("conformance: a BSDF producing NaN at grazing angles fails 'stable'", 
 TEST_CASE("conformance: a warp whose pdf is off by a factor fails 'pdf integral' and chi-square", "[conformance]") {
     auto out = test::tempDir("conform-warp");
     Session s = runOn("warp", "test_double_pdf", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     auto integral = s.find("test_double_pdf", "pdf integral");
     REQUIRE(integral.size() == 1);
     CHECK(integral[0]->verdict == Verdict::Fail);
@@ -147,7 +142,7 @@ TEST_CASE("conformance: a warp whose pdf is off by a factor fails 'pdf integral'
     CHECK(allAre(verdicts(s, "test_double_pdf", "inverse"), Verdict::Pass));
     // A wrong inverse is caught too.
     Session w = runOn("warp", "test_bad_inverse", out);
-    INFO(table(w));
+    INFO(sessionTable(w));
     CHECK(allAre(verdicts(w, "test_bad_inverse", "inverse"), Verdict::Fail));
     CHECK(allAre(verdicts(w, "test_bad_inverse", "chi-square"), Verdict::Pass));
     std::filesystem::remove_all(out);
@@ -156,15 +151,15 @@ TEST_CASE("conformance: a warp whose pdf is off by a factor fails 'pdf integral'
 TEST_CASE("conformance: an integrator whose error bar is too small fails 'error bar'", "[conformance]") {
     auto out = test::tempDir("conform-integrator");
     Session s = runOn("integrator", "test_overconfident", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_overconfident", "error bar"), Verdict::Fail));
     // Its estimates are the mean integrator's: unbiased.
     CHECK(allAre(verdicts(s, "test_overconfident", "unbiased"), Verdict::Pass));
     Session b = runOn("integrator", "test_biased", out);
-    INFO(table(b));
+    INFO(sessionTable(b));
     CHECK(anyIs(verdicts(b, "test_biased", "unbiased"), Verdict::Fail));
     Session m = runOn("integrator", "mean", out);
-    INFO(table(m));
+    INFO(sessionTable(m));
     CHECK(m.count(Verdict::Fail) == 0);
     std::filesystem::remove_all(out);
 }
@@ -173,22 +168,22 @@ TEST_CASE("conformance: sampler promises are checked", "[conformance]") {
     auto out = test::tempDir("conform-sampler");
     // A correct jittered sampler passes everything it claims, including N^-1 convergence.
     Session good = runOn("sampler", "test_jittered", out, false);
-    INFO(table(good));
+    INFO(sessionTable(good));
     CHECK(good.count(Verdict::Fail) == 0);
     CHECK(allAre(verdicts(good, "test_jittered", "stratification"), Verdict::Pass));
     // An independent sampler that claims stratification and a faster rate is caught.
     Session liar = runOn("sampler", "test_claims_too_much", out);
-    INFO(table(liar));
+    INFO(sessionTable(liar));
     CHECK(allAre(verdicts(liar, "test_claims_too_much", "stratification"), Verdict::Fail));
     CHECK(allAre(verdicts(liar, "test_claims_too_much", "convergence smooth"), Verdict::Fail));
     CHECK(allAre(verdicts(liar, "test_claims_too_much", "uniform"), Verdict::Pass));
     // A sampler whose dimensions are correlated, and one that returns 1.0.
     Session corr = runOn("sampler", "test_correlated", out);
-    INFO(table(corr));
+    INFO(sessionTable(corr));
     CHECK(allAre(verdicts(corr, "test_correlated", "independent"), Verdict::Fail));
     CHECK(allAre(verdicts(corr, "test_correlated", "uniform"), Verdict::Pass));
     Session range = runOn("sampler", "test_returns_one", out);
-    INFO(table(range));
+    INFO(sessionTable(range));
     CHECK(allAre(verdicts(range, "test_returns_one", "range"), Verdict::Fail));
     std::filesystem::remove_all(out);
 }
@@ -196,7 +191,7 @@ TEST_CASE("conformance: sampler promises are checked", "[conformance]") {
 TEST_CASE("conformance: a test integrand with a wrong integral() fails its suite", "[conformance]") {
     auto out = test::tempDir("conform-function");
     Session s = runOn("function", "test_wrong_integral", out);
-    INFO(table(s));
+    INFO(sessionTable(s));
     CHECK(allAre(verdicts(s, "test_wrong_integral", "integral"), Verdict::Fail));
     CHECK(allAre(verdicts(s, "test_wrong_integral", "finite"), Verdict::Pass));
     std::filesystem::remove_all(out);

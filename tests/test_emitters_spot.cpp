@@ -100,6 +100,8 @@ TEST_CASE("spot: a texture is read at Mitsuba's uv across the cone", "[emitter][
 TEST_CASE("spot: bad parameters are errors", "[emitter][spot]") {
     CHECK_THROWS_AS(makeEmitter("spot", {{"cutoff_angle", 20.0}, {"beam_width", 25.0}}), Error);
     CHECK_THROWS_AS(makeEmitter("spot", {{"cutoff_angle", 0.0}}), Error);
+    // Below 0.5° float cannot hold the cone (1 − cos rounds away; at 1e-3° the light was dark).
+    CHECK_THROWS_AS(makeEmitter("spot", {{"cutoff_angle", 0.01}}), Error);
     CHECK_THROWS_AS(makeEmitter("spot", {{"cutoff_angle", 200.0}}), Error);
     CHECK_THROWS_AS(makeEmitter("spot", {{"intensity", -1.0}}), Error);
 }

@@ -33,6 +33,17 @@ public:
         s.cite("Mitsuba 3 documentation, Orthographic camera; PBRT 4th ed., §5.1");
         s.transform("to_world", "Camera-to-world transform; its x/y scale sets the half-width of the view");
         camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on this plane");
+        // Conformance (conformance/camera_suite.cpp): the unit view, a lookat scaled unevenly
+        // (z too: the clip range is measured in world length), tiny and huge views, and
+        // near_clip close to far_clip. The tiny view (2e-3 across) sits at the origin and
+        // ends at 10: floats far from it could not tell its pixels apart.
+        const Transform view = Transform::lookAt({1.f, 2.f, 5.f}, {0.f, 0.5f, 0.f}, {0.f, 1.f, 0.f});
+        s.addConformance({"default", {}});
+        s.addConformance({"lookat scaled 3×2×1.5", {{"to_world", view * Transform::scale({3.f, 2.f, 1.5f})},
+                                                    {"near_clip", 0.5}, {"far_clip", 20.0}}});
+        s.addConformance({"tiny view", {{"to_world", Transform::scale({1e-3f, 1e-3f, 1.f})}, {"far_clip", 10.0}}});
+        s.addConformance({"huge view", {{"to_world", view * Transform::scale({1e3f, 1e3f, 1.f})}}});
+        s.addConformance({"near close to far", {{"to_world", view}, {"near_clip", 2.0}, {"far_clip", 2.002}}});
         return s;
     }
 

@@ -44,6 +44,18 @@ public:
         s.ignored("focus_distance", "a pinhole camera keeps everything in focus (thinlens uses it)");
         s.ignored("shutter_open", "no motion blur: scenes are static");
         s.ignored("shutter_close", "no motion blur: scenes are static");
+        // Conformance (conformance/camera_suite.cpp): the default 50mm lens, an off-centre
+        // lookat, the fov near both ends of (0, 180), near_clip close to far_clip, an
+        // off-axis (principal point) projection with fov along y, and a focal length.
+        const Transform view = Transform::lookAt({1.f, 2.f, 5.f}, {0.f, 0.5f, 0.f}, {0.f, 1.f, 0.f});
+        s.addConformance({"default", {}});
+        s.addConformance({"lookat fov 60", {{"to_world", view}, {"fov", 60.0}, {"near_clip", 0.05}, {"far_clip", 30.0}}});
+        s.addConformance({"tiny fov", {{"to_world", view}, {"fov", 1e-2}}});
+        s.addConformance({"huge fov", {{"to_world", view}, {"fov", 179.0}, {"near_clip", 1e-3}}});
+        s.addConformance({"near close to far", {{"to_world", view}, {"fov", 45.0}, {"near_clip", 1.0}, {"far_clip", 1.001}}});
+        s.addConformance({"off-axis fov_axis y", {{"fov", 70.0}, {"fov_axis", std::string("y")},
+                                                  {"principal_point_offset_x", 0.2}, {"principal_point_offset_y", -0.1}}});
+        s.addConformance({"focal length 20mm", {{"focal_length", std::string("20mm")}, {"far_clip", 1e6}}});
         return s;
     }
 

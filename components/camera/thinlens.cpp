@@ -48,6 +48,19 @@ public:
         camera::addFovParams(s, 0.0);
         s.transform("to_world", "Camera-to-world transform (lookat); rotation and translation only");
         camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on the near plane");
+        // Conformance (conformance/camera_suite.cpp): an ordinary lens, an aperture of 0 and
+        // near 0, a wide aperture focused close, the fov near both ends of (0, 180), and
+        // near_clip close to far_clip around the focus distance.
+        const Transform view = Transform::lookAt({1.f, 2.f, 5.f}, {0.f, 0.5f, 0.f}, {0.f, 1.f, 0.f});
+        s.addConformance({"default", {{"to_world", view}, {"aperture_radius", 0.1}, {"focus_distance", 5.0}, {"fov", 40.0}}});
+        s.addConformance({"aperture 0", {{"to_world", view}, {"aperture_radius", 0.0}, {"fov", 40.0}}});
+        s.addConformance({"aperture 1e-6", {{"to_world", view}, {"aperture_radius", 1e-6}, {"focus_distance", 3.0}}});
+        s.addConformance({"wide aperture, close focus", {{"to_world", view}, {"aperture_radius", 2.0}, {"focus_distance", 0.5},
+                                                         {"fov", 50.0}, {"near_clip", 0.05}, {"far_clip", 100.0}}});
+        s.addConformance({"tiny fov", {{"aperture_radius", 0.05}, {"focus_distance", 10.0}, {"fov", 1e-2}}});
+        s.addConformance({"huge fov", {{"aperture_radius", 0.05}, {"focus_distance", 2.0}, {"fov", 179.0}}});
+        s.addConformance({"near close to far", {{"to_world", view}, {"aperture_radius", 0.3}, {"focus_distance", 4.0},
+                                                {"fov", 30.0}, {"near_clip", 4.0}, {"far_clip", 4.004}}});
         return s;
     }
 

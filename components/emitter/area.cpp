@@ -40,6 +40,13 @@ public:
         // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
         // rule, which changes noise only, never the expected image.
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
+        // Cases of the emitter conformance suite (conformance/emitter_suite.cpp), which
+        // nests the light in a square and a sphere; extremes included.
+        s.addConformance({"default", {}});
+        s.addConformance({"tiny", {{"scale", 1e-6}}});
+        s.addConformance({"huge", {{"radiance", 1e6}}});
+        s.addConformance({"dark", {{"radiance", 0.0}}});
+        s.addConformance({"power", {{"power", 10.0}}});
         return s;
     }
 

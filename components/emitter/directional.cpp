@@ -38,8 +38,8 @@ public:
         s.transform("to_world", "The light travels along to_world · (0, 0, 1)");
         EmissionScale::declare(s, "Scale the irradiance to this luminance Y", "W m^-2", "");
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule (noise only)");
-        // No emitter conformance suite exists yet; these name the cases a future one (and
-        // tests/test_emitters_extra.cpp) covers, extremes included.
+        // Cases of the emitter conformance suite (conformance/emitter_suite.cpp) and
+        // tests/test_emitters_extra.cpp, extremes included.
         s.addConformance({"default", {}});
         s.addConformance({"grazing tilted", {{"direction", VectorValue{Vector3f(1.f, 0.f, -1e-3f)}}}});
         s.addConformance({"dark", {{"irradiance", 0.0}}});

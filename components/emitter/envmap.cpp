@@ -19,7 +19,9 @@
 //   scale             float ≥ 0 (default 1)  factor on the radiance
 //   to_world          transform  orientation of the map (rotations; scale is ignored)
 //   mis_compensation  bool (default false)  subtract the mean from the sampling weights
-//                     (Karlík et al. 2019, "MIS Compensation", ACM TOG 38(6))
+//                     of direct sampling (Karlík et al. 2019, "MIS Compensation", ACM TOG
+//                     38(6)); emission sampling keeps the plain luminance, or light
+//                     tracing would miss the darker half of the map's flux
 //
 // Reference: pbrt-v4 §12.5.2 (image infinite lights); Mitsuba 3 `envmap`.
 #include "effigi/core/registry.hpp"
@@ -30,6 +32,8 @@
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/upsample.hpp"
+
+#include <optional>
 
 namespace effigi {
 namespace {
@@ -44,8 +48,8 @@ public:
         s.transform("to_world", "Orientation of the map (its +Y is the zenith)");
         s.boolean("mis_compensation", false, "Sample by max(luminance − mean, 0) (MIS compensation)");
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule (noise only)");
-        // No emitter conformance suite exists yet; these name the cases a future one (and
-        // tests/test_emitters_extra.cpp) covers, extremes included.
+        // Cases of the emitter conformance suite (conformance/emitter_suite.cpp) and
+        // tests/test_emitters_extra.cpp, extremes included.
         const std::string sky = "tests/data/emitters/sky.exr";
         s.addConformance({"default", {{"filename", sky}}});
         s.addConformance({"mis compensation", {{"filename", sky}, {"mis_compensation", true}}});
@@ -84,7 +88,7 @@ public:
         EmitterSample es;
         float pdf;
         Vector3f local;
-        if (!sampleLocal(u, local, pdf)) return es;
+        if (!sampleLocal(m_distribution, u, local, pdf)) return es;
         es.wi = normalize(m_toWorld.vector(local));
         es.p = m_sphere.beyond(ref, es.wi);
         es.n = -es.wi;
@@ -114,7 +118,11 @@ public:
         EmissionSample es;
         float pdf;
         Vector3f local;
-        if (!sampleLocal(uDir, local, pdf)) return es;
+        // MIS compensation only suits direct lighting, where BSDF sampling covers the
+        // directions darker than the mean; emission (light tracing, photons) must reach
+        // every direction that emits, so it samples the plain luminance.
+        if (!sampleLocal(m_emissionDistribution ? *m_emissionDistribution : m_distribution, uDir, local, pdf))
+            return es;
         Vector3f d = -normalize(m_toWorld.vector(local));  // travels from the map into the scene
         es.ray = m_sphere.parallelRay(d, uPos);
         es.n = d;
@@ -171,7 +179,7 @@ private:
             if (mean - lo > 0.01f * mean) offset = mean;
         }
         int cellsV = m_height - 1;
-        std::vector<float> weights(std::size_t(m_width) * std::size_t(cellsV));
+        std::vector<float> weights(std::size_t(m_width) * std::size_t(cellsV)), plain(weights.size());
         double integral = 0.0;
         for (int j = 0; j < cellsV; ++j) {
             float bandSolid = std::cos(Pi * float(j) / float(cellsV)) - std::cos(Pi * float(j + 1) / float(cellsV));
@@ -180,12 +188,14 @@ private:
                 float mean = 0.25f * (m_luminance[index(i, j)] + m_luminance[index(i1, j)] +
                                       m_luminance[index(i, j + 1)] + m_luminance[index(i1, j + 1)]);
                 integral += double(mean) * double(bandSolid) * 2.0 * Pi / double(m_width);
-                weights[std::size_t(j) * std::size_t(m_width) + std::size_t(i)] =
-                    std::max(mean - offset, 0.f) * std::max(bandSolid, 0.f);
+                const std::size_t cell = std::size_t(j) * std::size_t(m_width) + std::size_t(i);
+                weights[cell] = std::max(mean - offset, 0.f) * std::max(bandSolid, 0.f);
+                plain[cell] = mean * std::max(bandSolid, 0.f);
             }
         }
         m_radiantLuminance = float(integral) * m_scale;
         m_distribution = Distribution2D(weights, m_width, cellsV);
+        if (offset > 0.f) m_emissionDistribution = Distribution2D(plain, m_width, cellsV);
         m_luminance.clear();
         m_luminance.shrink_to_fit();
     }
@@ -199,11 +209,12 @@ private:
         return Point2f(u - std::floor(u), safeAcos(d.y) * InvPi);
     }
 
-    /// A local direction drawn from the distribution and its solid-angle density.
-    bool sampleLocal(const Point2f& u, Vector3f& local, float& pdf) const {
-        if (m_distribution.isZero()) return false;
+    /// A local direction drawn from `dist` (one of the map's cell distributions) and its
+    /// solid-angle density.
+    bool sampleLocal(const Distribution2D& dist, const Point2f& u, Vector3f& local, float& pdf) const {
+        if (dist.isZero()) return false;
         float pdfUV;
-        Point2f sv = m_distribution.sample(u, pdfUV);
+        Point2f sv = dist.sample(u, pdfUV);
         float phi = 2.f * Pi * (sv.x + 0.5f / float(m_width)), theta = Pi * sv.y;
         float sinTheta = std::sin(theta);
         if (!(pdfUV > 0.f) || !(sinTheta > 0.f)) return false;
@@ -243,7 +254,8 @@ private:
     float m_d65Norm = cie::d65Normalization();
     float m_maxTexelScale = 0.f;  // the brightest texel's scale (load check)
     Transform m_toWorld, m_toLocal;
-    Distribution2D m_distribution;
+    Distribution2D m_distribution;                        // direct sampling (maybe compensated)
+    std::optional<Distribution2D> m_emissionDistribution;  // emission, when compensated
     SceneSphere m_sphere;
 };
 

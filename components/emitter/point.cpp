@@ -41,6 +41,13 @@ public:
         // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
         // rule, which changes noise only, never the expected image.
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
+        // Cases of the emitter conformance suite (conformance/emitter_suite.cpp), extremes included.
+        s.addConformance({"default", {}});
+        s.addConformance({"offset", {{"position", PointValue{Point3f(100.f, -50.f, 20.f)}}}});
+        s.addConformance({"tiny", {{"intensity", 1e-6}}});
+        s.addConformance({"huge", {{"intensity", 1e6}}});
+        s.addConformance({"dark", {{"intensity", 0.0}}});
+        s.addConformance({"power", {{"power", 100.0}}});
         return s;
     }
 

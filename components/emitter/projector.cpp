@@ -45,8 +45,8 @@ public:
         camera::addFovParams(s, 0.0);
         s.transform("to_world", "Position (translation) and aim (local +z) of the projector");
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule (noise only)");
-        // No emitter conformance suite exists yet; these name the cases a future one (and
-        // tests/test_emitters_extra.cpp) covers, extremes included.
+        // Cases of the emitter conformance suite (conformance/emitter_suite.cpp) and
+        // tests/test_emitters_extra.cpp, extremes included.
         s.addConformance({"default", {}});
         s.addConformance({"narrow", {{"fov", 1e-2}}});
         s.addConformance({"wide", {{"fov", 179.0}}});

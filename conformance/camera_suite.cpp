@@ -1,0 +1,381 @@
+// Camera suite: an ICamera, in each of its configurations, with its configured film and
+// with films of other shapes (wide, tall, a single pixel, a crop window), is checked for
+// what ICamera and ICameraImportance promise:
+//  - film maps into image: film positions over the full film [0, W] × [0, H], edges and
+//    corners included, and lens samples at 0 and 1 − ε give finite rays with a unit
+//    direction, a positive finite length and a finite, non-negative weight;
+//  - clip range: a ray starts at camera depth near_clip and spans the clip slab, its
+//    length times the cosine to the viewing axis being far_clip − near_clip (Mitsuba);
+//  - projection inverts generateRay: points at several depths along a ray connect
+//    (ICameraImportance::sampleDirection with the same lens sample) to the film position
+//    the ray came from, within the rounding the geometry allows, with a connection
+//    (wi, dist, weight, pdf) that is consistent;
+//  - importance: the importance over the directions from a lens point (per unit area
+//    across the viewing direction for an orthographic camera) is the density of
+//    generateRay's directions (origins) for film positions uniform over the full film:
+//    a chi-square test of the two, and its integral over the film is 1 within 1e-3
+//    (Veach 1997, §8.1; the normalisation of icamera_importance.hpp).
+// The chi-square test is the only statistical check: seeded from the run's seed and its
+// name (Target::rng), its verdict is taken at the run's Šidák-corrected level (family-wise
+// α = 0.01); every other check is deterministic with the tolerance it prints.
+// Camera space is Mitsuba's: the camera looks along local +z of to_world.
+#include "conformance/conformance.hpp"
+#include "conformance/histogram.hpp"
+#include "effigi/interfaces/icamera.hpp"
+#include "effigi/interfaces/icamera_importance.hpp"
+#include "effigi/interfaces/ifilm.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace effigi::conform {
+
+namespace {
+
+constexpr double U = 0x1p-24;  // float unit roundoff
+
+struct Setup {
+    std::string label;  // the film it runs with
+    Ref<ICamera> cam;
+    const ICameraImportance* imp = nullptr;
+    Vector2f full{1.f};
+    glm::dmat4 toWorld{1.0}, toLocal{1.0};
+    glm::dvec3 eye{0.0};  // camera origin in world space
+};
+
+glm::dvec3 local(const Setup& s, const Point3f& p) { return glm::dvec3(s.toLocal * glm::dvec4(glm::dvec3(p), 1.0)); }
+glm::dvec3 localDir(const Setup& s, const Vector3f& d) { return glm::dvec3(s.toLocal * glm::dvec4(glm::dvec3(d), 0.0)); }
+Point3f world(const Setup& s, const glm::dvec3& p) { return Point3f(glm::dvec3(s.toWorld * glm::dvec4(p, 1.0))); }
+
+Ray rayAt(const Setup& s, Point2f film, Point2f lens, SampledSpectrum& w) {
+    CameraSample cs;
+    cs.pFilm = film;
+    cs.pLens = lens;
+    return s.cam->generateRay(cs, SampledWavelengths::sampleUniform(0.37f), w);
+}
+
+std::string str(Point2f p) { return fmt::format("({:.7g}, {:.7g})", p.x, p.y); }
+
+/// A worst case over many probes, with the first offending one described.
+struct Worst {
+    std::uint64_t checked = 0, bad = 0;
+    std::string first;
+    void note(bool ok, const std::string& what) {
+        ++checked;
+        if (!ok && bad++ == 0) first = what;
+    }
+    std::string figure() const { return fmt::format("{} bad of {}", bad, checked); }
+};
+
+Ref<IFilm> makeFilm(Registry& reg, int w, int h, int cx = 0, int cy = 0, int cw = 0, int ch = 0) {
+    Properties p("film", "hdrfilm");
+    p.set("width", std::int64_t(w));
+    p.set("height", std::int64_t(h));
+    if (cw > 0) {
+        p.set("crop_offset_x", std::int64_t(cx));
+        p.set("crop_offset_y", std::int64_t(cy));
+        p.set("crop_width", std::int64_t(cw));
+        p.set("crop_height", std::int64_t(ch));
+    }
+    return query<IFilm>(reg.create("film", "hdrfilm", p));
+}
+
+Setup setupOf(std::string label, Ref<ICamera> cam) {
+    Setup s;
+    s.label = std::move(label);
+    s.cam = std::move(cam);
+    s.imp = query<ICameraImportance>(s.cam.get());
+    s.full = Vector2f(s.cam->film().fullSize());
+    s.toWorld = glm::dmat4(s.cam->toWorld().matrix());
+    s.toLocal = glm::inverse(s.toWorld);
+    s.eye = glm::dvec3(s.toWorld[3]);
+    return s;
+}
+
+/// Film positions on the edges, corners and inside of the film (and of its crop window).
+std::vector<Point2f> edgePositions(const Setup& s) {
+    auto axis = [](float size, int off, int crop) {
+        std::vector<float> v = {0.f, 1e-6f, 0.5f * size, std::nextafter(size, 0.f), size};
+        if (size > 1.f) v.push_back(0.5f), v.push_back(size - 0.5f);
+        if (crop > 0) v.push_back(float(off)), v.push_back(float(off + crop));
+        return v;
+    };
+    const IFilm& f = s.cam->film();
+    bool cropped = f.size() != f.fullSize();
+    std::vector<float> xs = axis(s.full.x, f.cropOffset().x, cropped ? f.size().x : 0);
+    std::vector<float> ys = axis(s.full.y, f.cropOffset().y, cropped ? f.size().y : 0);
+    std::vector<Point2f> out;
+    for (float x : xs)
+        for (float y : ys) out.emplace_back(x, y);
+    return out;
+}
+
+const Point2f EdgeLens[] = {{0.5f, 0.5f}, {0.f, 0.f}, {OneMinusEpsilon, OneMinusEpsilon}, {0.f, OneMinusEpsilon}};
+
+/// Film maps into image, and clip range.
+void checkRays(Target& t, const std::vector<Setup>& setups, double nearClip, double farClip, bool hasClip) {
+    PCG32 rng = t.rng("film maps into image");
+    Worst maps, clip;
+    for (const Setup& s : setups) {
+        glm::dvec3 axis = glm::normalize(glm::dvec3(s.toWorld * glm::dvec4(0, 0, 1, 0)));
+        auto probe = [&](Point2f film, Point2f lens) {
+            SampledSpectrum w(-1.f);
+            Ray r = rayAt(s, film, lens, w);
+            bool weightOk = true;
+            for (int i = 0; i < NSpectrumSamples; ++i) weightOk = weightOk && std::isfinite(w[i]) && w[i] >= 0.f;
+            double len = glm::length(glm::dvec3(r.d));
+            bool ok = isFinite(r.o) && isFinite(r.d) && std::abs(len - 1.0) <= 1e-5 && std::isfinite(r.tMax) &&
+                      r.tMax > 0.f && weightOk;
+            maps.note(ok, fmt::format("{}: film {} lens {}: o = ({}, {}, {}), |d| = {}, tMax = {}, weight {}", s.label,
+                                      str(film), str(lens), r.o.x, r.o.y, r.o.z, len, r.tMax, w[0]));
+            if (!ok || !hasClip) return;
+            // Depth of the origin is rounded like a point at |o| + |eye| from the origin.
+            double depth = local(s, r.o).z;
+            double tolStart = 1e-5 * nearClip + 64.0 * U * (glm::length(glm::dvec3(r.o)) + glm::length(s.eye));
+            double span = double(r.tMax) * glm::dot(glm::dvec3(r.d), axis);
+            bool inClip = std::abs(depth - nearClip) <= tolStart && std::abs(span - (farClip - nearClip)) <=
+                                                                        1e-4 * (farClip - nearClip);
+            clip.note(inClip, fmt::format("{}: film {} lens {}: origin depth {:.9g} (near {:.9g}), tMax·cos = {:.9g} "
+                                          "(far − near = {:.9g})",
+                                          s.label, str(film), str(lens), depth, nearClip, span, farClip - nearClip));
+        };
+        for (Point2f film : edgePositions(s))
+            for (Point2f lens : EdgeLens) probe(film, lens);
+        for (std::uint64_t i = 0, n = t.count(4000, 1000); i < n; ++i)
+            probe(Point2f(rng.nextFloat() * s.full.x, rng.nextFloat() * s.full.y), Point2f(rng.nextFloat(), rng.nextFloat()));
+    }
+    t.expect("film maps into image", maps.bad == 0, maps.figure(),
+             maps.bad ? "first: " + maps.first
+                      : "finite rays, |d| = 1 ± 1e-5, finite tMax > 0, finite weight ≥ 0 over the film, its edges and corners");
+    if (!hasClip) {
+        t.skip("clip range", "no near_clip / far_clip parameters");
+        return;
+    }
+    t.expect("clip range", clip.bad == 0, clip.figure(),
+             clip.bad ? "first: " + clip.first
+                      : "origins at depth near_clip (to rounding), tMax·cos θ = far_clip − near_clip (1e-4 relative)");
+}
+
+/// The distance between the point p and the line of r.
+double lineDistance(const glm::dvec3& p, const Ray& r) {
+    glm::dvec3 d = glm::normalize(glm::dvec3(r.d));
+    return glm::length(glm::cross(p - glm::dvec3(r.o), d));
+}
+
+/// Projection inverts generateRay.
+void checkInverse(Target& t, const std::vector<Setup>& setups) {
+    PCG32 rng = t.rng("projection inverts generateRay");
+    Worst proj, conn;
+    double worstRatio = 0.0;
+    for (const Setup& s : setups) {
+        auto probe = [&](Point2f film, Point2f lens) {
+            SampledSpectrum w;
+            Ray r = rayAt(s, film, lens, w);
+            if (!(isFinite(r.o) && isFinite(r.d) && std::isfinite(r.tMax))) return;  // film maps into image says so
+            // World length of a film step of h pixels at the point: rays of neighbouring
+            // film positions (toward the centre) through the same lens point.
+            // Steps of up to 16 pixels, so that the rounding of the rays' origins is small
+            // against the step.
+            float hx = std::clamp(0.25f * s.full.x, 0.25f, 16.f), hy = std::clamp(0.25f * s.full.y, 0.25f, 16.f);
+            if (film.x > 0.5f * s.full.x) hx = -hx;
+            if (film.y > 0.5f * s.full.y) hy = -hy;
+            Ray rx = rayAt(s, film + Point2f(hx, 0.f), lens, w), ry = rayAt(s, film + Point2f(0.f, hy), lens, w);
+            for (double f : {1e-3, 0.02, 0.5, 0.98}) {
+                Point3f p = r(float(f * double(r.tMax)));
+                glm::dvec3 pd(p), exact = glm::dvec3(r.o) + f * double(r.tMax) * glm::dvec3(r.d);
+                double perPixel = std::min(lineDistance(exact, rx) / std::abs(hx), lineDistance(exact, ry) / std::abs(hy));
+                // Rounding of the film position, and of p and its camera-space image (a few
+                // float roundings of |p| across the ray) as film pixels.
+                double tol = 2e-3 + 4.0 * U * std::max(s.full.x, s.full.y) +
+                             256.0 * U * (glm::length(pd) + glm::length(glm::dvec3(r.o)) + glm::length(s.eye)) / perPixel;
+                CameraImportanceSample cs;
+                bool ok = s.imp->sampleDirection(p, lens, cs);
+                double err = ok ? glm::length(glm::dvec2(cs.pFilm) - glm::dvec2(film)) : HUGE_VAL;
+                // A film position within tol of the film's edge may fall just outside it.
+                double edge = std::min({double(film.x), double(film.y), s.full.x - double(film.x), s.full.y - double(film.y)});
+                if (!ok && edge <= tol) continue;
+                if (ok) worstRatio = std::max(worstRatio, err / tol);
+                proj.note(err <= tol, fmt::format("{}: film {} lens {} at t = {:.4g} of {:.4g}: {} (tolerance {:.3g} px)",
+                                                  s.label, str(film), str(lens), f * r.tMax, r.tMax,
+                                                  ok ? "connects to film " + str(cs.pFilm) : std::string("no connection"),
+                                                  tol));
+                if (!ok) continue;
+                // The connection: wi back along the ray (unless a delta direction, which is
+                // the viewing direction), dist to pCamera, a positive finite weight and pdf.
+                glm::dvec3 pc(cs.pCamera);
+                double dist = glm::length(pd - pc);
+                double angTol = 1e-5 + 64.0 * U * (glm::length(pd) + glm::length(s.eye)) / std::max(dist, 1e-30);
+                glm::dvec3 wi = glm::normalize(glm::dvec3(cs.wi)), back = -glm::normalize(glm::dvec3(r.d));
+                double ang = std::atan2(glm::length(glm::cross(wi, back)), glm::dot(wi, back));  // acos loses digits near 0
+                bool good = std::abs(glm::length(glm::dvec3(cs.wi)) - 1.0) <= 1e-5 && ang <= angTol &&
+                            std::abs(cs.dist - dist) <= 1e-4 * dist + 64.0 * U * (glm::length(pd) + glm::length(pc)) &&
+                            std::isfinite(cs.weight) && cs.weight > 0.f && std::isfinite(cs.pdf) && cs.pdf > 0.f;
+                conn.note(good, fmt::format("{}: film {} lens {} at t = {:.4g}: wi {:.3g} rad off −d, dist {} vs {}, "
+                                            "weight {}, pdf {}",
+                                            s.label, str(film), str(lens), f * r.tMax, ang, cs.dist, dist, cs.weight,
+                                            cs.pdf));
+            }
+        };
+        for (Point2f film : edgePositions(s)) probe(film, Point2f(0.5f));
+        for (std::uint64_t i = 0, n = t.count(2000, 400); i < n; ++i)
+            probe(Point2f(rng.nextFloat() * s.full.x, rng.nextFloat() * s.full.y), Point2f(rng.nextFloat(), rng.nextFloat()));
+    }
+    t.expect("projection inverts generateRay", proj.bad == 0, fmt::format("{}; worst {:.3g} of tolerance", proj.figure(), worstRatio),
+             proj.bad ? "first: " + proj.first
+                      : "points at 0.1 %, 2 %, 50 %, 98 % of each ray connect to its film position within 2e-3 px + "
+                        "the rounding of the point's position");
+    t.expect("connection geometry", conn.bad == 0, conn.figure(),
+             conn.bad ? "first: " + conn.first
+                      : "wi = −d, dist = |p − pCamera|, finite weight > 0 and pdf > 0 for every connection");
+}
+
+/// Importance against the density of generateRay's directions (origins), by chi-square.
+void checkImportance(Target& t, const Setup& s) {
+    const Point2f centre = 0.5f * s.full;
+    SampledSpectrum w;
+    Ray r0 = rayAt(s, centre, Point2f(0.5f), w);
+    CameraImportanceSample c0;
+    if (!s.imp->sampleDirection(r0(0.5f * r0.tMax), Point2f(0.5f), c0)) {
+        t.expect("importance chi-square", false, "-", "the middle of the central ray does not connect");
+        return;
+    }
+    const bool delta = c0.deltaDirection;
+    const double depth0 = local(s, r0(0.5f * r0.tMax)).z;
+    // A second lens sample only where the lens sample moves the ray.
+    std::vector<Point2f> lenses = {Point2f(0.5f)};
+    if (rayAt(s, centre, Point2f(0.85f, 0.2f), w).o != r0.o) lenses.emplace_back(0.85f, 0.2f);
+
+    // Chart: gnomonic coordinates (x/z, y/z) of the camera-space direction from the lens
+    // point (dω = dx dy cos³θ), or the camera-space position across the viewing
+    // direction for a delta direction (dA⊥ = J dx dy).
+    glm::dvec3 tx(s.toWorld[0]), ty(s.toWorld[1]), tz = glm::normalize(glm::dvec3(s.toWorld[2]));
+    const double jacobian = std::abs(glm::dot(glm::cross(tx, ty), tz));
+    const int cells = int(t.count(24, 12));
+    const std::uint64_t n = t.count(1000000, 40000);
+    std::vector<double> pValues;
+    double worstIntegral = 1.0;
+    std::string detail;
+    std::shared_ptr<Histogram> hist;
+    std::string unresolved;
+    for (Point2f lens : lenses) {
+        auto chart = [&](const Ray& r, double& x, double& y) {
+            if (delta) {
+                glm::dvec3 o = local(s, r.o);
+                x = o.x, y = o.y;
+            } else {
+                glm::dvec3 d = localDir(s, r.d);
+                x = d.x / d.z, y = d.y / d.z;
+            }
+        };
+        Ray rc = rayAt(s, centre, lens, w);
+        glm::dvec3 oc = local(s, rc.o), dc = localDir(s, rc.d);
+        const glm::dvec3 lensPoint = oc - dc * (oc.z / dc.z);  // where the ray crosses z = 0
+        Grid2D g;
+        g.x0 = g.y0 = HUGE_VAL;
+        g.x1 = g.y1 = -HUGE_VAL;
+        for (Point2f corner : {Point2f(0.f), Point2f(s.full.x, 0.f), Point2f(0.f, s.full.y), s.full}) {
+            double x, y;
+            chart(rayAt(s, corner, lens, w), x, y);
+            g.x0 = std::min(g.x0, x), g.x1 = std::max(g.x1, x), g.y0 = std::min(g.y0, y), g.y1 = std::max(g.y1, y);
+        }
+        // A margin of 1e-3 of the extent keeps rounded samples on the film's edge inside.
+        double mx = 1e-3 * (g.x1 - g.x0), my = 1e-3 * (g.y1 - g.y0);
+        g.x0 -= mx, g.x1 += mx, g.y0 -= my, g.y1 += my;
+        g.nx = g.ny = cells;
+        g.xLabel = delta ? "x" : "x/z";
+        g.yLabel = delta ? "y" : "y/z";
+        // Float rays quantise the chart: directions to U per component (U (1 + x² + y²) in
+        // x/z), origins to U |o|. Beyond 1e-3 of a cell the rounding itself biases the
+        // counts at 10⁶ samples (a fov of 0.01° on 768 pixels: 1/4 pixel), so the test
+        // is skipped there, as the BSDF suite skips lobes narrower than its cells.
+        double reach = std::max({std::abs(g.x0), std::abs(g.x1), std::abs(g.y0), std::abs(g.y1)});
+        double quantum = delta ? U * (glm::length(s.eye) + reach * std::max(glm::length(tx), glm::length(ty))) /
+                                     (std::min(glm::length(tx), glm::length(ty)) * std::min(g.cellWidth(), g.cellHeight()))
+                               : U * (1.0 + 2.0 * reach * reach) / std::min(g.cellWidth(), g.cellHeight());
+        if (quantum > 1e-3) unresolved = fmt::format("float rays resolve only {:.2g} of a cell (limit 1e-3)", quantum);
+        PCG32 rng = t.rng(fmt::format("importance chi-square {} {}", lens.x, lens.y));
+        std::vector<double> observed(std::size_t(g.cells()), 0.0);
+        double outside = 0.0;
+        for (std::uint64_t i = 0; i < (unresolved.empty() ? n : 0); ++i) {
+            Ray r = rayAt(s, Point2f(rng.nextFloat() * s.full.x, rng.nextFloat() * s.full.y), lens, w);
+            double x, y;
+            chart(r, x, y);
+            int c = g.cellOf(x, y);
+            if (c < 0) outside += 1.0;
+            else observed[std::size_t(c)] += 1.0;
+        }
+        auto density = [&](double x, double y) {
+            glm::dvec3 pl = delta ? glm::dvec3(x, y, depth0) : lensPoint + glm::dvec3(x, y, 1.0) * (depth0 - lensPoint.z);
+            CameraImportanceSample cs;
+            if (!s.imp->sampleDirection(world(s, pl), lens, cs) || !(cs.pdf > 0.f)) return 0.0;
+            double we = double(cs.weight) / double(cs.pdf);
+            if (delta) return we * jacobian;
+            double cos2 = 1.0 / (1.0 + x * x + y * y);
+            return we * double(cs.dist) * double(cs.dist) * cos2 * std::sqrt(cos2);
+        };
+        std::vector<double> integrals = integrateCells(g, density, 1e-6 / g.cells());
+        FitResult fit = chiSquareFit(g, observed, outside, integrals, double(n));
+        pValues.push_back(fit.chi2.pValue);
+        if (std::abs(fit.densityIntegral - 1.0) >= std::abs(worstIntegral - 1.0)) worstIntegral = fit.densityIntegral;
+        if (!hist || fit.chi2.pValue <= *std::min_element(pValues.begin(), pValues.end())) hist = fit.histogram;
+        detail += fmt::format("{}lens {}: {}", detail.empty() ? "" : "; ", str(lens), fit.summary());
+    }
+    double p = combinePValues(pValues);
+    if (!unresolved.empty()) t.skip("importance chi-square", unresolved);
+    else t.test("importance chi-square", p, fmt::format("p = {:.3g}", p),
+           fmt::format("{} film positions uniform over the full film per lens sample, {} × {} cells over the {}; {}", n,
+                       cells, cells, delta ? "camera-space plane across the viewing direction" : "gnomonic chart of directions",
+                       detail),
+           hist);
+    // The cell quadrature is accurate to ~1e-4 in total; 1e-3 is the tolerance.
+    t.expect("importance integral", std::abs(worstIntegral - 1.0) <= 1e-3, fmt::format("∫W_e = {:.5f}", worstIntegral),
+             delta ? "importance per unit area across the viewing direction over the film (tolerance 1e-3)"
+                   : "importance per solid angle from the lens point over the film (tolerance 1e-3)");
+}
+
+void runCameraSuite(Target& t) {
+    Ref<ICamera> cam = t.as<ICamera>();
+    if (!cam) {
+        t.expect("interface", false, "-", "component does not implement ICamera");
+        return;
+    }
+    Registry& reg = t.registry();
+    // near_clip and far_clip as the configuration sets them (or their defaults).
+    Properties p(t.tag(), t.component());
+    for (const auto& [name, value] : t.configuration().params) p.set(name, value);
+    reg.info(t.tag(), t.component()).schema.validate(p);
+    const bool hasClip = p.has("near_clip") && p.has("far_clip");
+    const double nearClip = hasClip ? p.getFloat("near_clip") : 0.0, farClip = hasClip ? p.getFloat("far_clip") : 0.0;
+
+    std::vector<Setup> setups;
+    Vector2i size = cam->film().fullSize();
+    setups.push_back(setupOf(fmt::format("film {}×{}", size.x, size.y), cam));
+    struct FilmShape {
+        const char* label;
+        int w, h, cx, cy, cw, ch;
+    };
+    if (t.hasParameter("film"))
+        for (FilmShape f : {FilmShape{"wide film 64×8", 64, 8, 0, 0, 0, 0}, FilmShape{"tall film 6×80", 6, 80, 0, 0, 0, 0},
+                            FilmShape{"film 1×1", 1, 1, 0, 0, 0, 0},
+                            FilmShape{"film 120×90 cropped to 30,20 + 40×30", 120, 90, 30, 20, 40, 30}})
+            setups.push_back(setupOf(f.label, query<ICamera>(t.create(
+                                                  {{"film", ComponentValue{"film", makeFilm(reg, f.w, f.h, f.cx, f.cy, f.cw, f.ch)}}}))));
+
+    checkRays(t, setups, nearClip, farClip, hasClip);
+    if (!setups[0].imp) {
+        t.skip("projection inverts generateRay", "the camera does not implement ICameraImportance");
+        return;
+    }
+    checkInverse(t, setups);
+    checkImportance(t, setups[0]);
+}
+
+} // namespace
+
+} // namespace effigi::conform
+
+EFFIGI_CONFORMANCE_SUITE("camera",
+                         "finite unit rays over the film, clip range, projection inverts generateRay, importance "
+                         "matches the density of generated rays",
+                         effigi::conform::runCameraSuite);
