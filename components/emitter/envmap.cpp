@@ -179,7 +179,8 @@ private:
             if (mean - lo > 0.01f * mean) offset = mean;
         }
         int cellsV = m_height - 1;
-        std::vector<float> weights(std::size_t(m_width) * std::size_t(cellsV)), plain(weights.size());
+        // With compensation, emission sampling keeps the plain weights beside them.
+        std::vector<float> weights(std::size_t(m_width) * std::size_t(cellsV)), plain(offset > 0.f ? weights.size() : 0);
         double integral = 0.0;
         for (int j = 0; j < cellsV; ++j) {
             float bandSolid = std::cos(Pi * float(j) / float(cellsV)) - std::cos(Pi * float(j + 1) / float(cellsV));
@@ -190,12 +191,12 @@ private:
                 integral += double(mean) * double(bandSolid) * 2.0 * Pi / double(m_width);
                 const std::size_t cell = std::size_t(j) * std::size_t(m_width) + std::size_t(i);
                 weights[cell] = std::max(mean - offset, 0.f) * std::max(bandSolid, 0.f);
-                plain[cell] = mean * std::max(bandSolid, 0.f);
+                if (!plain.empty()) plain[cell] = mean * std::max(bandSolid, 0.f);
             }
         }
         m_radiantLuminance = float(integral) * m_scale;
         m_distribution = Distribution2D(weights, m_width, cellsV);
-        if (offset > 0.f) m_emissionDistribution = Distribution2D(plain, m_width, cellsV);
+        if (!plain.empty()) m_emissionDistribution = Distribution2D(plain, m_width, cellsV);
         m_luminance.clear();
         m_luminance.shrink_to_fit();
     }

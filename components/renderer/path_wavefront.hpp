@@ -16,6 +16,7 @@
 // Tracing on GPUs", HPG; Wald et al. 2014 (Embree packets).
 #include "path_core.hpp"
 
+#include "effigi/math/running_estimate.hpp"
 #include "effigi/render/tile_renderer.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -45,12 +46,11 @@ public:
                     for (int x = bx; x < std::min(bx + 4, extent.x); ++x, ++i) {
                         m_pixel[i] = Point2i(offset.x + x, offset.y + y);
                         m_samplers[i]->startPixel(m_pixel[i]);
-                        m_pixelStats[i] = {};
+                        m_pixelStats[i] = RunningEstimate(3);
                     }
-        std::uint64_t done = 0;
-        for (std::uint64_t k = range.first; k < range.first + range.count && !control.stopRequested(); ++k, ++done)
+        for (std::uint64_t k = range.first; k < range.first + range.count && !control.stopRequested(); ++k)
             wave(n, k, block, stats);
-        for (std::size_t i = 0; i < n; ++i) variance.merge(m_pixel[i], m_pixelStats[i].estimate(done));
+        for (std::size_t i = 0; i < n; ++i) variance.merge(m_pixel[i], m_pixelStats[i].estimate());
     }
 
 private:
@@ -61,32 +61,6 @@ private:
         t = now;
         return s;
     }
-
-    /// Welford's running mean and sum of squares of a pixel's linear sRGB samples, as the
-    /// `mean` integrator keeps them (the pixel's error estimate).
-    struct PixelStats {
-        double mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-        std::uint64_t n = 0;
-        void add(const Vector3f& rgb) {
-            ++n;
-            for (int c = 0; c < 3; ++c) {
-                double v = double(rgb[c]), delta = v - mean[c];
-                mean[c] += delta / double(n);
-                m2[c] += delta * (v - mean[c]);
-            }
-        }
-        Estimate estimate(std::uint64_t samples) const {
-            Estimate e;
-            e.channels = 3;
-            e.samples = samples;
-            for (int c = 0; c < 3; ++c) {
-                e.mean[c] = mean[c];
-                e.variance[c] = samples < 2 ? std::numeric_limits<double>::infinity()
-                                            : m2[c] / double(samples - 1) / double(samples);
-            }
-            return e;
-        }
-    };
 
     void prepare(std::size_t n) {
         const ISampler& proto = m_scene.camera().sampler();
@@ -129,8 +103,10 @@ private:
         }
 
         for (std::size_t i = 0; i < n; ++i) {
-            Vector3f rgb = m_splatter.put(block, m_pFilm[i], m_weight[i] * m_paths[i].L, m_lambda[i], stats);
-            m_pixelStats[i].add(rgb);
+            // The pixel's estimate, as the mean integrator keeps it: the samples' linear sRGB.
+            const Vector3f rgb = m_splatter.put(block, m_pFilm[i], m_weight[i] * m_paths[i].L, m_lambda[i], stats);
+            const double v[3] = {rgb.x, rgb.y, rgb.z};
+            m_pixelStats[i].add(v);
         }
         w.filmSeconds += since(t);
     }
@@ -194,7 +170,7 @@ private:
     // Per path of the wave (= per pixel of the tile), structure of arrays.
     std::vector<Ref<ISampler>> m_samplers;
     std::vector<Point2i> m_pixel;
-    std::vector<PixelStats> m_pixelStats;
+    std::vector<RunningEstimate> m_pixelStats;
     std::vector<PathState> m_paths;
     std::vector<SampledWavelengths> m_lambda;
     std::vector<Point2f> m_pFilm;
@@ -214,15 +190,11 @@ private:
 /// pixel, into `variance`).
 inline RenderStats renderPathWavefront(const Scene& scene, const RenderControl& control,
                                        const PathIntegrator& integrator, PixelVariance& variance) {
-    const IFilm& film = scene.camera().film();
-    const auto [lambdaMin, lambdaMax] = film.spectralRange();
-    const SpectralBinning bins(film.spectralBins(), lambdaMin, lambdaMax);
-    std::vector<std::string> channels{"X", "Y", "Z"};
-    for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
-    variance.prepare(film, control.accumulate);
+    const SampledChannels channels = sampledChannels(scene.camera().film());
+    variance.prepare(scene.camera().film(), control.accumulate);
     tbb::enumerable_thread_specific<PathWavefront> engines(
-        [&] { return PathWavefront(scene, integrator, bins, control.seed); });
-    return renderTileBlocks(scene, control, channels, "Rendering",
+        [&] { return PathWavefront(scene, integrator, channels.bins, control.seed); });
+    return renderTileBlocks(scene, control, channels.names, "Rendering",
                             [&](const Point2i& offset, const Vector2i& extent, SampleRange range, ISampler&,
                                 ImageBlock& block, TileStats& stats) {
                                 engines.local().renderTile(offset, extent, range, block, stats, control, variance);

@@ -97,6 +97,14 @@ FilmSample sampleCamera(const ICamera& camera, ISampler& sampler, const Point2i&
     return cs;
 }
 
+SampledChannels sampledChannels(const IFilm& film, const std::vector<std::string>& extra) {
+    const auto [lambdaMin, lambdaMax] = film.spectralRange();
+    SampledChannels c{SpectralBinning(film.spectralBins(), lambdaMin, lambdaMax), {"X", "Y", "Z"}};
+    for (std::string& name : c.bins.channelNames()) c.names.push_back(std::move(name));
+    c.names.insert(c.names.end(), extra.begin(), extra.end());
+    return c;
+}
+
 SampleSplatter::SampleSplatter(const SpectralBinning& bins, std::size_t extraChannels)
     : m_bins(bins), m_binCount(std::size_t(bins.count())), m_values(3 + m_binCount + extraChannels, 0.f) {}
 
@@ -181,15 +189,12 @@ private:
 RenderStats renderSampled(const Scene& scene, const RenderControl& control, const IIntegrator& integrator,
                           const ISampleRenderer& renderer, PixelVariance& variance) {
     const IFilm& film = scene.camera().film();
-    const auto [lambdaMin, lambdaMax] = film.spectralRange();
-    const SpectralBinning bins(film.spectralBins(), lambdaMin, lambdaMax);
     const std::vector<std::string> extra = renderer.sampleChannels();
-    std::vector<std::string> channels{"X", "Y", "Z"};
-    for (std::string& c : bins.channelNames()) channels.push_back(std::move(c));
-    channels.insert(channels.end(), extra.begin(), extra.end());
+    const SampledChannels channels = sampledChannels(film, extra);
     variance.prepare(film, control.accumulate);
-    tbb::enumerable_thread_specific<SampleSplatter> splatters([&] { return SampleSplatter(bins, extra.size()); });
-    return renderTiles(scene, control, channels, "Rendering",
+    tbb::enumerable_thread_specific<SampleSplatter> splatters(
+        [&] { return SampleSplatter(channels.bins, extra.size()); });
+    return renderTiles(scene, control, channels.names, "Rendering",
                        [&](const Point2i& px, SampleRange range, ISampler& sampler, ImageBlock& block,
                            TileStats& stats) {
                            SampledIntegrand f(scene, renderer, splatters.local(), px, block, stats);

@@ -58,6 +58,14 @@ struct FilmSample {
 };
 FilmSample sampleCamera(const ICamera& camera, ISampler& sampler, const Point2i& pixel);
 
+/// The channels a sampled renderer writes into the camera's film: X, Y, Z, the film's
+/// spectral bins (their names and binning), then the renderer's own `extra` channels.
+struct SampledChannels {
+    SpectralBinning bins;
+    std::vector<std::string> names;
+};
+SampledChannels sampledChannels(const IFilm& film, const std::vector<std::string>& extra = {});
+
 /// The film's channels of one sample: X, Y, Z, the spectral bins, then a renderer's own
 /// channels; shared by renderSampled and the renderers that trace many samples at once.
 class SampleSplatter {
