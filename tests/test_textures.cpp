@@ -59,6 +59,14 @@ double bilinearReference(const std::vector<float>& img, int w, int h, double u, 
     return sum;
 }
 
+/// A w × h one-channel float EXR of uniform random values (seeded), written to file.
+std::vector<float> randomImage(const fs::path& file, int w, int h, PCG32& rng) {
+    std::vector<float> img(std::size_t(w) * std::size_t(h));
+    for (float& v : img) v = rng.nextFloat();
+    writeImage(file, w, h, 1, img, OIIO::TypeDesc::FLOAT);
+    return img;
+}
+
 } // namespace
 
 TEST_CASE("textures: Bitmap reads pixels top row first and knows sRGB from linear", "[textures]") {
@@ -139,10 +147,8 @@ TEST_CASE("textures: damaged, missing and non-image files give one-line errors",
 TEST_CASE("textures: bitmap lookups match bilinear and nearest reconstruction in every wrap mode", "[textures]") {
     fs::path dir = tempDir("tex-lookup");
     const int w = 5, h = 3;
-    std::vector<float> img(w * h);
     PCG32 rng(7, 1);
-    for (float& v : img) v = rng.nextFloat();
-    writeImage(dir / "t.exr", w, h, 1, img, OIIO::TypeDesc::FLOAT);
+    const std::vector<float> img = randomImage(dir / "t.exr", w, h, rng);
     for (const std::string mode : {"repeat", "mirror", "clamp"}) {
         Ref<ITexture> bil = bitmapTexture(dir / "t.exr", "bilinear", mode);
         Ref<ITexture> nea = bitmapTexture(dir / "t.exr", "nearest", mode);
@@ -168,10 +174,8 @@ TEST_CASE("textures: bitmap lookups match bilinear and nearest reconstruction in
 TEST_CASE("textures: bitmap gradient equals finite differences, through to_uv", "[textures]") {
     fs::path dir = tempDir("tex-grad");
     const int w = 6, h = 4;
-    std::vector<float> img(w * h);
     PCG32 rng(11, 1);
-    for (float& v : img) v = rng.nextFloat();
-    writeImage(dir / "g.exr", w, h, 1, img, OIIO::TypeDesc::FLOAT);
+    const std::vector<float> img = randomImage(dir / "g.exr", w, h, rng);
     Properties p("texture", "bitmap");
     p.set("filename", (dir / "g.exr").string());
     // to_uv: u' = 2u − 0.5v + 0.1, v' = 0.3u + 1.5v (a 4x4 matrix, extra row/column ignored).
