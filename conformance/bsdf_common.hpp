@@ -63,8 +63,8 @@ inline bool usable(const SampledSpectrum& s) {
 }
 
 /// Above this density (sr⁻¹) a lobe is narrower than a (φ, cos θ) histogram and its
-/// cell quadrature can resolve (about 1e-3 sr, GGX α ≈ 0.01): the chi-square and
-/// pdf-integral checks are skipped for it, the value checks still run.
+/// cell quadrature can resolve (about 1e-3 sr, GGX α ≈ 0.01): its chi-square runs on a
+/// chart centred on the lobe instead (bsdf_lobe.cpp) and the pdf-integral check skips it.
 inline constexpr double MaxHistogramPdf = 1000.0;
 
 // The checks, one function each (bsdf_checks.cpp, bsdf_distribution.cpp).
@@ -75,5 +75,8 @@ void checkReciprocity(Target& t, const IBSDF& b);
 void checkEnergy(Target& t, const IBSDF& b);
 void checkDelta(Target& t, const IBSDF& b);
 void checkDistribution(Target& t, const IBSDF& b);
+/// The chi-square of checkDistribution for lobes denser than MaxHistogramPdf.
+void checkNarrowLobes(Target& t, const IBSDF& b, const SurfaceInteraction& si, const Vector3f& wo,
+                      const std::string& name, std::uint64_t n);
 
 } // namespace effigi::conform::bsdf

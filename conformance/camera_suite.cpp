@@ -57,17 +57,6 @@ Ray rayAt(const Setup& s, Point2f film, Point2f lens, SampledSpectrum& w) {
 
 std::string str(Point2f p) { return fmt::format("({:.7g}, {:.7g})", p.x, p.y); }
 
-/// A worst case over many probes, with the first offending one described.
-struct Worst {
-    std::uint64_t checked = 0, bad = 0;
-    std::string first;
-    void note(bool ok, const std::string& what) {
-        ++checked;
-        if (!ok && bad++ == 0) first = what;
-    }
-    std::string figure() const { return fmt::format("{} bad of {}", bad, checked); }
-};
-
 Ref<IFilm> makeFilm(Registry& reg, int w, int h, int cx = 0, int cy = 0, int cw = 0, int ch = 0) {
     Properties p("film", "hdrfilm");
     p.set("width", std::int64_t(w));
@@ -116,7 +105,7 @@ const Point2f EdgeLens[] = {{0.5f, 0.5f}, {0.f, 0.f}, {OneMinusEpsilon, OneMinus
 /// Film maps into image, and clip range.
 void checkRays(Target& t, const std::vector<Setup>& setups, double nearClip, double farClip, bool hasClip) {
     PCG32 rng = t.rng("film maps into image");
-    Worst maps, clip;
+    Tally maps, clip;
     for (const Setup& s : setups) {
         glm::dvec3 axis = glm::normalize(glm::dvec3(s.toWorld * glm::dvec4(0, 0, 1, 0)));
         auto probe = [&](Point2f film, Point2f lens) {
@@ -166,7 +155,7 @@ double lineDistance(const glm::dvec3& p, const Ray& r) {
 /// Projection inverts generateRay.
 void checkInverse(Target& t, const std::vector<Setup>& setups) {
     PCG32 rng = t.rng("projection inverts generateRay");
-    Worst proj, conn;
+    Tally proj, conn;
     double worstRatio = 0.0;
     for (const Setup& s : setups) {
         auto probe = [&](Point2f film, Point2f lens) {

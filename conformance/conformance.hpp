@@ -26,6 +26,10 @@
 namespace effigi::conform {
 
 enum class Verdict { Pass, Fail, Skip, Info };
+
+/// Ends the name of each configuration added at a range end: "alpha = 4 (range end)".
+inline constexpr std::string_view RangeEndSuffix = " (range end)";
+
 const char* verdictName(Verdict v);
 
 /// Observed and expected counts of a chi-square test over a grid of nx × ny cells
@@ -83,6 +87,8 @@ public:
     bool hasParameter(const std::string& name) const;
 
     bool quick() const { return m_options.quick; }
+    /// A configuration the session added at a parameter's range end (RangeEnds::Probed).
+    bool rangeEnd() const { return m_config.name.ends_with(RangeEndSuffix); }
     std::uint64_t seed() const { return m_options.seed; }
     /// `full` normally, `quick` under --quick.
     std::uint64_t count(std::uint64_t full, std::uint64_t quick) const { return m_options.quick ? quick : full; }
@@ -114,14 +120,34 @@ private:
     double m_lastTime;
 };
 
+/// A deterministic check over many probes: how many were bad, the first bad one
+/// described, and (where the check has a tolerance) the largest error over it.
+struct Tally {
+    std::uint64_t checked = 0, bad = 0;
+    double worst = 0.0;  ///< largest error / tolerance seen, where the check records it
+    std::string first;
+    void note(bool ok, const std::string& what) {
+        ++checked;
+        if (!ok && bad++ == 0) first = what;
+    }
+    std::string figure() const { return std::to_string(bad) + " bad of " + std::to_string(checked); }
+    std::string detail(const std::string& good) const { return bad ? "first: " + first : good; }
+};
+
 // ---- suites --------------------------------------------------------------------------
 
 using SuiteFunction = void (*)(Target&);
+
+/// Whether the session adds, to each component's conformance configurations, one per end
+/// of every ranged float parameter (float, texture, spectrum) that has a default and that
+/// no configuration sets to that end: "alpha = 4" alone, the others at their defaults.
+enum class RangeEnds { Configured, Probed };
 
 struct Suite {
     std::string tag;
     std::string summary;  ///< one line: what the suite checks
     SuiteFunction run = nullptr;
+    RangeEnds rangeEnds = RangeEnds::Configured;
 };
 
 /// Every suite linked into the program, sorted by tag.
@@ -129,15 +155,25 @@ std::vector<Suite> suites();
 const Suite* findSuite(const std::string& tag);
 
 struct SuiteRegistration {
-    SuiteRegistration(std::string tag, std::string summary, SuiteFunction run);
+    SuiteRegistration(std::string tag, std::string summary, SuiteFunction run,
+                      RangeEnds rangeEnds = RangeEnds::Configured);
 };
+
+/// The configurations a suite probing range ends adds to `configs` for `schema`.
+std::vector<ConformanceConfig> rangeEndConfigs(const Schema& schema, const std::vector<ConformanceConfig>& configs);
 
 #define EFFIGI_CONFORMANCE_CONCAT2(a, b) a##b
 #define EFFIGI_CONFORMANCE_CONCAT(a, b) EFFIGI_CONFORMANCE_CONCAT2(a, b)
-/// Registers a suite from its own file: EFFIGI_CONFORMANCE_SUITE("bsdf", "...", runBsdf);
-#define EFFIGI_CONFORMANCE_SUITE(tag, summary, fn)                                              \
+/// Registers a suite from its own file: EFFIGI_CONFORMANCE_SUITE("bsdf", "...", runBsdf),
+/// optionally followed by RangeEnds::Probed.
+#define EFFIGI_CONFORMANCE_SUITE(tag, summary, ...)                                             \
     static const ::effigi::conform::SuiteRegistration EFFIGI_CONFORMANCE_CONCAT(effigiSuite_, __LINE__){ \
-        tag, summary, fn}
+        tag, summary, __VA_ARGS__}
+
+/// The smallest relative error ε of a density, on a region holding a fraction q of the
+/// samples, that a chi-square test of n samples in `cells` cells at level alphaSingle
+/// catches with probability 0.9 (power.cpp).
+double detectableDensityError(double n, double cells, double alphaSingle, double q);
 
 // ---- session -------------------------------------------------------------------------
 
@@ -172,6 +208,10 @@ public:
     int count(Verdict v) const;
     /// Rows of a given check name (tests).
     std::vector<const Row*> find(const std::string& component, const std::string& checkPrefix) const;
+
+    /// The smallest defects the run's statistical tests catch with probability 0.9 at its
+    /// settings, one line each (power.cpp); printed after the table.
+    std::vector<std::string> powerLines() const;
 
     void printTable(std::FILE* out) const;
     void writeJson(std::FILE* out) const;

@@ -82,15 +82,20 @@ void Session::printTable(std::FILE* out) const {
                  m_rows.size(), count(Verdict::Pass), count(Verdict::Fail), count(Verdict::Skip), count(Verdict::Info),
                  statisticalTests(), m_options.alpha, alphaSingle(),
                  m_wallSeconds > 0.0 ? fmt::format(" {:.1f} s.", m_wallSeconds).c_str() : "");
+    for (const std::string& line : powerLines()) std::fprintf(out, "%s\n", line.c_str());
 }
 
 void Session::writeJson(std::FILE* out) const {
     std::string s = "{\n";
     s += fmt::format("  \"seed\": {},\n  \"quick\": {},\n  \"alpha\": {},\n  \"alpha_single\": {:.6g},\n"
                      "  \"statistical_tests\": {},\n  \"passed\": {},\n  \"failed\": {},\n  \"skipped\": {},\n"
-                     "  \"seconds\": {:.3f},\n  \"rows\": [\n",
+                     "  \"seconds\": {:.3f},\n",
                      m_options.seed, m_options.quick, m_options.alpha, alphaSingle(), statisticalTests(),
                      count(Verdict::Pass), count(Verdict::Fail), count(Verdict::Skip), m_wallSeconds);
+    std::vector<std::string> power = powerLines();
+    s += "  \"power\": [";
+    for (std::size_t i = 0; i < power.size(); ++i) s += (i ? ", " : "") + jsonString(power[i]);
+    s += "],\n  \"rows\": [\n";
     for (std::size_t i = 0; i < m_rows.size(); ++i) {
         const Row& r = m_rows[i];
         std::string files;
@@ -122,6 +127,7 @@ void Session::writeHtml(const std::filesystem::path& file) const {
                        m_rows.size(), count(Verdict::Pass), count(Verdict::Fail), count(Verdict::Skip),
                        statisticalTests(), m_options.alpha, alphaSingle(), m_options.seed,
                        m_options.quick ? ", --quick" : "");
+    for (const std::string& line : powerLines()) out << "<p class=\"d\">" << html(line) << "</p>\n";
     out << "<table><tr><th>verdict</th><th>component</th><th>config</th><th>check</th><th>figure</th>"
            "<th>p-value</th><th>detail</th></tr>\n";
     for (const Row& r : m_rows) {

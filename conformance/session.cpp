@@ -62,8 +62,38 @@ const char* verdictName(Verdict v) {
 
 // ---- suites --------------------------------------------------------------------------
 
-SuiteRegistration::SuiteRegistration(std::string tag, std::string summary, SuiteFunction run) {
-    suiteTable()[tag] = Suite{tag, std::move(summary), run};
+SuiteRegistration::SuiteRegistration(std::string tag, std::string summary, SuiteFunction run, RangeEnds rangeEnds) {
+    suiteTable()[tag] = Suite{tag, std::move(summary), run, rangeEnds};
+}
+
+std::vector<ConformanceConfig> rangeEndConfigs(const Schema& schema, const std::vector<ConformanceConfig>& configs) {
+    auto named = [&](const std::string& param, double v) {
+        for (const ConformanceConfig& c : configs)
+            for (const auto& [k, value] : c.params)
+                if (k == param && std::holds_alternative<double>(value) && std::get<double>(value) == v) return true;
+        return false;
+    };
+    std::vector<ConformanceConfig> out;
+    // Each end is set on the configuration with the fewest parameters (usually "default"):
+    // it holds what the component needs (a nested BSDF, a file) and little else.
+    ConformanceConfig base{"default", {}};
+    if (!configs.empty())
+        base = *std::min_element(configs.begin(), configs.end(),
+                                 [](const auto& a, const auto& b) { return a.params.size() < b.params.size(); });
+    for (const ParamSpec& p : schema.params()) {
+        bool number = p.type == ParamType::Float || p.type == ParamType::Texture || p.type == ParamType::Spectrum;
+        // Parameters without a default only make sense together with others (alpha_u
+        // with alpha_v): a configuration of their own would be a usage error.
+        if (!number || !p.defaultValue || p.ignored) continue;
+        for (const std::optional<double>& end : {p.min, p.max})
+            if (end && std::isfinite(*end) && !named(p.name, *end)) {
+                ConformanceConfig c{fmt::format("{} = {:g}{}", p.name, *end, RangeEndSuffix), base.params};
+                std::erase_if(c.params, [&](const auto& kv) { return kv.first == p.name; });
+                c.params.emplace_back(p.name, PropertyValue(*end));
+                out.push_back(std::move(c));
+            }
+    }
+    return out;
 }
 
 std::vector<Suite> suites() {
@@ -159,6 +189,12 @@ std::vector<Job> Session::plan() const {
             // A module that fails to load is reported by runJob as a failing row.
         }
         if (configs.empty()) configs.push_back({"default", {}});
+        if (findSuite(tag)->rangeEnds == RangeEnds::Probed) {
+            try {
+                for (auto& c : rangeEndConfigs(m_registry.info(tag, name).schema, configs)) configs.push_back(std::move(c));
+            } catch (const std::exception&) {
+            }
+        }
         for (auto& c : configs) jobs.push_back({tag, name, std::move(c)});
     }
     return jobs;

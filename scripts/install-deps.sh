@@ -16,6 +16,7 @@ packages=(
   libtinyobjloader-dev # OBJ meshes
   libfmt-dev           # formatting
   zlib1g-dev           # Mitsuba .serialized meshes
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev  # `make fuzz`: libFuzzer + ASan/UBSan (the fuzz preset)
 )
 
 missing=()

@@ -2,8 +2,8 @@
 // them: D normalised, Smith G1 and G in their limits, visible-normal densities integrating
 // to 1, white-furnace albedos of roughconductor (F = 1) and roughdielectric (R + T), both
 // checked against quadrature of f() independent of sampling, the α → 0 limit against the
-// smooth conductor and dielectric (the near-specular lobes' chi-square is in
-// test_microfacet_lobes.cpp). Random tests are seeded; each states its tolerance.
+// smooth conductor and dielectric (the near-specular lobes' chi-square is effigi-conform's
+// lobe chart, conformance/bsdf_lobe.cpp). Random tests are seeded; each states its tolerance.
 #include "bsdf_helpers.hpp"
 
 #include "effigi/math/frame.hpp"

@@ -58,6 +58,8 @@ void printText(const Schema& s) {
                     docText(p).c_str(), p.unit.empty() ? "" : fmt::format(" [{}]", p.unit).c_str(),
                     extra.empty() ? "" : fmt::format(" ({})", extra).c_str());
     }
+    for (const ConformanceAllowance& a : s.allowances())
+        std::printf("conformance allowance: %s <= %g — %s\n", a.check.c_str(), a.bound, a.reason.c_str());
 }
 
 /// A table cell: '|' would end the cell, so it is escaped (GitHub-flavoured Markdown).
@@ -86,6 +88,8 @@ void printMarkdown(const Schema& s) {
                     cell(doc).c_str());
     }
     std::printf("\n");
+    for (const ConformanceAllowance& a : s.allowances())
+        std::printf("Conformance allowance: `%s` ≤ %g — %s\n\n", a.check.c_str(), a.bound, a.reason.c_str());
 }
 
 } // namespace

@@ -116,9 +116,13 @@ private:
         return w;
     }
     static Vector3f reflectLocal(const Vector3f& w) { return {-w.x, -w.y, w.z}; }
-    /// wi·R(wo) in double: the lobe of a huge exponent is narrower than float rounding of it.
+    /// wi·R(wo) in double, divided by the lengths: the lobe of a huge exponent is narrower
+    /// than float rounding of it, and a float unit vector's length is 1 only to ~6e-8, which
+    /// cos^n with n = 1e7 would turn into a factor e^0.6 (effigi-conform's lobe chart).
     static double cosToMirror(const Vector3f& wo, const Vector3f& wi) {
-        return std::min(1.0, -double(wo.x) * wi.x - double(wo.y) * wi.y + double(wo.z) * wi.z);
+        Vector3d a(wo), b(wi);
+        double d = -a.x * b.x - a.y * b.y + a.z * b.z;
+        return std::min(1.0, d / std::sqrt(glm::dot(a, a) * glm::dot(b, b)));
     }
     double exponent(const SurfaceInteraction& si) const { return std::max(0.0, double(m_exponent->evalFloat(si))); }
 

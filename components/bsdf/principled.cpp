@@ -133,6 +133,10 @@ public:
         cfg("specular 1", {{"specular", 1.0}, {"roughness", 0.2}, {"base_color", 0.3}});
         cfg("diffuse-only sampling", {{"main_specular_sampling_rate", 0.0}, {"roughness", 0.8}});
         cfg("black", {{"base_color", 0.0}});
+        cfg("white roughness 1 sheen 1", {{"base_color", 1.0}, {"roughness", 1.0}, {"sheen", 1.0}});
+        s.allow({"energy", 1.7, "Burley's diffuse (retro-reflection factor up to 2.5 at grazing) and the sheen lobe "
+                                "gain energy with a white base colour: albedo 1.62 at roughness 1, sheen 1, cos θo = "
+                                "0.05 (Burley 2012, §5.3)"});
         return s;
     }
 

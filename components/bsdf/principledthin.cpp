@@ -85,6 +85,10 @@ public:
             {{"sheen", 1.0}, {"sheen_tint", 1.0}, {"spec_tint", 1.0}, {"flatness", 1.0}, {"spec_trans", 0.3},
              {"base_color", RGBValue{{0.2f, 0.4f, 0.3f}}}});
         cfg("black", {{"base_color", 0.0}, {"diff_trans", 1.0}});
+        cfg("white roughness 1 sheen 1", {{"base_color", 1.0}, {"roughness", 1.0}, {"sheen", 1.0}});
+        s.allow({"energy", 1.6, "Burley's diffuse (retro-reflection at grazing) and the sheen lobe gain energy "
+                                "with a white base colour: albedo 1.55 at roughness 1, sheen 1, cos θo = 0.05 "
+                                "(Burley 2012, §5.3; Burley 2015 for the thin sheet)"});
         return s;
     }
 

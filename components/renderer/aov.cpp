@@ -12,6 +12,7 @@
 // child without a name attribute is called "_arg_<i>". Without nested renderers the
 // colour image is black, as in Mitsuba. Used for denoiser inputs and to debug scenes.
 // Reference: Mitsuba 3, src/integrators/aov.cpp (names, layout).
+#include "nested_renderer.hpp"
 #include "sampled_renderer.hpp"
 
 #include "effigi/core/input.hpp"
@@ -59,6 +60,10 @@ public:
                  "albedo, depth, position, uv, geo_normal, sh_normal, dp_du, dp_dv, prim_index");
         s.children("renderer", "Renderers whose images come first (nested <integrator> in Mitsuba)");
         addIntegratorParam(s);
+        s.addConformance({"default", {}});
+        s.addConformance({"every AOV type", {{"aovs", std::string("a:albedo, d:depth, p:position, uv:uv, g:geo_normal, "
+                                                                  "n:sh_normal, u:dp_du, v:dp_dv, i:prim_index")}}});
+        if (auto path = nestedRenderer("path")) s.addConformance({"nested path", {{"path", *path}}});
         return s;
     }
 

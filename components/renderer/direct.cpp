@@ -33,6 +33,14 @@ public:
         s.integer("bsdf_samples", 1, "BSDF samples per camera sample (default: shading_samples)").range(0, 1024);
         s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
         addSchedulingParams(s);
+        s.addConformance({"default", {}});
+        auto counts = [](std::int64_t emitter, std::int64_t bsdf) {
+            using Params = std::vector<std::pair<std::string, PropertyValue>>;
+            return Params{{"emitter_samples", emitter}, {"bsdf_samples", bsdf}};
+        };
+        s.addConformance({"emitter samples only", counts(1, 0)});
+        s.addConformance({"bsdf samples only", counts(0, 1)});
+        s.addConformance({"shading_samples 4", {{"shading_samples", std::int64_t(4)}}});
         return s;
     }
 

@@ -13,6 +13,7 @@
 // Parameters: the nested renderers (at least one); integrator (numerical integrator of
 // each pixel, default mean; nested renderers' own integrators are not used).
 // Reference: Mitsuba 3, src/integrators/moment.cpp (channel layout and names).
+#include "nested_renderer.hpp"
 #include "sampled_renderer.hpp"
 
 #include "effigi/core/registry.hpp"
@@ -29,6 +30,10 @@ public:
         s.cite("Mitsuba 3, moment integrator");
         s.children("renderer", "Renderers whose samples are recorded (at least one; nested <integrator> in Mitsuba)");
         addIntegratorParam(s);
+        // Nested renderers are required: without one there is nothing to instantiate.
+        if (auto path = nestedRenderer("path")) s.addConformance({"nested path", {{"path", *path}}});
+        if (auto direct = nestedRenderer("direct"), path = nestedRenderer("path"); direct && path)
+            s.addConformance({"nested direct, path", {{"direct", *direct}, {"path", *path}}});
         return s;
     }
 

@@ -6,8 +6,8 @@
 // emission found by BSDF sampling and by light sampling, weighted by multiple importance
 // sampling with the power heuristic (Veach & Guibas 1995), and ends paths by Russian
 // roulette after rr_depth; pass-through (null, mask) surfaces are crossed as in Mitsuba 3.
-// Parameters: max_depth (longest path in segments, −1 = unbounded; 1 = emitters seen
-// directly, 2 = direct lighting — Mitsuba's convention), rr_depth, hide_emitters, and
+// Parameters: max_depth (longest path in segments, −1 = unbounded; 0 = black; 1 = emitters
+// seen directly, 2 = direct lighting — Mitsuba's convention), rr_depth, hide_emitters, and
 // wavefront (effigi's own): render a tile's paths together and trace their rays in
 // batches (path_wavefront.hpp), the default for a top-level `path` with the `mean`
 // integrator; otherwise (wavefront=false, another integrator, or nested in aov/moment)
@@ -29,13 +29,21 @@ public:
     static Schema schema() {
         Schema s("renderer", "path", "Unidirectional spectral path tracer with next-event estimation and MIS.");
         s.cite("Veach 1997, Robust Monte Carlo Methods for Light Transport Simulation, ch. 9");
-        s.integer("max_depth", -1, "Longest path in segments (-1: unbounded; 1: emitters only)").atLeast(-1);
+        s.integer("max_depth", -1, "Longest path in segments (-1: unbounded; 0: black; 1: emitters only)").atLeast(-1);
         s.integer("rr_depth", 5, "Depth from which Russian roulette may end paths").atLeast(1);
         s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
         s.boolean("wavefront", true,
                   "Advance a tile's paths together and trace rays in batches (same estimator; needs the mean "
                   "integrator, else the one-path loop runs)");
         addSchedulingParams(s);
+        // Extremes: no scattering (0), emitters only (1), one bounce short of the exact
+        // answer (2, 3), deep paths (1000), Russian roulette from the first bounce.
+        s.addConformance({"default", {}});
+        for (std::int64_t d : {0, 1, 2, 3, 1000})
+            s.addConformance({fmt::format("max_depth {}", d), {{"max_depth", d}}});
+        s.addConformance({"rr_depth 1", {{"rr_depth", std::int64_t(1)}}});
+        s.addConformance({"hide_emitters", {{"hide_emitters", true}}});
+        s.addConformance({"one path at a time", {{"wavefront", false}}});
         return s;
     }
 

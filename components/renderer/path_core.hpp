@@ -75,7 +75,8 @@ public:
 
     /// The segment escaped: environment emission; the path ends.
     void miss(PathState& s, const SampledWavelengths& lambda) const {
-        if (s.depth == 1 && m_hideEmitters) return;
+        // Emission counts on segments 1..max_depth only: max_depth 0 is black (Mitsuba).
+        if (s.depth > m_maxDepth || (s.depth == 1 && m_hideEmitters)) return;
         for (const IEmitter* env : m_scene.environments()) {
             float w = 1.f;
             if (s.depth > 1 && !s.specular)
@@ -89,7 +90,7 @@ public:
     bool scatter(PathState& s, const SurfaceInteraction& si, SampledWavelengths& lambda, ISampler& sampler,
                  std::optional<ShadowRay>& shadow) const {
         shadow.reset();
-        if (si.emitter && !(s.depth == 1 && m_hideEmitters)) {
+        if (si.emitter && s.depth <= m_maxDepth && !(s.depth == 1 && m_hideEmitters)) {
             SampledSpectrum Le = si.emitter->eval(si, lambda);
             if (!Le.isBlack()) {
                 float w = 1.f;

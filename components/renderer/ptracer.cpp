@@ -207,6 +207,12 @@ public:
                    "Samples per pixel per pass (divides the sample count; default: all in one pass)")
             .atLeast(1);
         s.ignored("timeout", "use effigi render --time for a time budget");
+        s.addConformance({"default", {}});
+        for (std::int64_t d : {0, 1, 3})
+            s.addConformance({fmt::format("max_depth {}", d), {{"max_depth", d}}});
+        s.addConformance({"rr_depth 1", {{"rr_depth", std::int64_t(1)}}});
+        s.addConformance({"hide_emitters", {{"hide_emitters", true}}});
+        s.addConformance({"one sample per pass", {{"samples_per_pass", std::int64_t(1)}}});
         return s;
     }
 

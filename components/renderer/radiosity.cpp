@@ -30,7 +30,7 @@
 namespace effigi {
 namespace {
 
-class RadiosityRenderer final : public Implements<IRenderer> {
+class RadiosityRenderer final : public Implements<IRenderer, IRadiosityReport> {
 public:
     static Schema schema() {
         Schema s("renderer", "radiosity",
@@ -40,6 +40,8 @@ public:
         s.string("shading", "gouraud", "Display: interpolate vertex radiosities or show each element's constant value")
             .oneOf({"gouraud", "constant"});
         RadiositySolution::addParams(s);
+        s.addConformance({"default", {}});
+        s.addConformance({"constant shading", {{"shading", std::string("constant")}}});
         return s;
     }
 
@@ -61,6 +63,8 @@ public:
         stats.interrupted = stats.interrupted || m_solution.interrupted();
         return stats;
     }
+
+    const SolverReport& solverReport() const override { return m_solution.report(); }
 
 private:
     bool m_gouraud;

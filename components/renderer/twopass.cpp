@@ -38,7 +38,7 @@
 namespace effigi {
 namespace {
 
-class TwoPassRenderer final : public Implements<IRenderer> {
+class TwoPassRenderer final : public Implements<IRenderer, IRadiosityReport> {
 public:
     static Schema schema() {
         Schema s("renderer", "twopass",
@@ -70,6 +70,8 @@ public:
         stats.interrupted = stats.interrupted || m_solution.interrupted();
         return stats;
     }
+
+    const SolverReport& solverReport() const override { return m_solution.report(); }
 
 private:
     /// The second pass: follow delta lobes until the solution covers the surface.

@@ -16,6 +16,11 @@ public:
         Schema s("shape", "cube", "Axis-aligned cube [-1,1]³, 12 triangles with outward normals.");
         s.cite("Mitsuba 3 documentation, cube shape");
         addMeshParams(s);
+        // effigi-conform: a thin slab, a huge far box, inward normals.
+        s.addConformance({"default", {}});
+        s.addConformance({"slab", {{"to_world", Transform::scale({1.f, 2.f, 1e-4f})}}});
+        s.addConformance({"huge far", {{"to_world", Transform::translate({3e4f, 0.f, -1e4f}) * Transform::scale(Vector3f(1e4f))}}});
+        s.addConformance({"flipped", {{"flip_normals", true}}});
         return s;
     }
 

@@ -258,6 +258,11 @@ public:
                    "Control points 'x y z radius' per line, blank lines between curves; relative to the scene file")
             .isRequired();
         addCommonParams(s);
+        // effigi-conform: the two curves of tests/data/curves, also stretched far away.
+        const std::string file = "tests/data/curves/curves.txt";
+        s.addConformance({"default", {{"filename", file}}});
+        s.addConformance({"stretched far", {{"filename", file}, {"to_world", Transform::translate({1e3f, 0.f, 0.f}) *
+                                                                               Transform::scale({1e2f, 1.f, 1.f})}}});
     }
 
     CurveShape(const Properties& p, std::size_t minPoints, const char* kind) : ShapeBase(p) {

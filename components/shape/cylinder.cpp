@@ -26,8 +26,13 @@ public:
         s.point("p1", Point3f(0.f, 0.f, 1.f), "Object-space end of the axis (distinct from p0)");
         s.real("radius", 1.0, "Radius in object space (> 0)").atLeast(0.0).withUnit("scene units");
         addCommonParams(s);
+        // effigi-conform: a needle, a wide squat ring, inward normals, a tilted axis.
+        s.addConformance({"default", {}});
         s.addConformance({"thin", {{"radius", 1e-3}}});
         s.addConformance({"wide", {{"radius", 1e3}}});
+        s.addConformance({"flat ring", {{"radius", 10.0}, {"p1", PointValue{{0.f, 0.f, 1e-3f}}}}});
+        s.addConformance({"tilted flipped", {{"p0", PointValue{{1.f, -1.f, 0.5f}}}, {"p1", PointValue{{-2.f, 3.f, 1.f}}},
+                                             {"radius", 0.3}, {"flip_normals", true}}});
         return s;
     }
 

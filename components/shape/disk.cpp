@@ -18,6 +18,14 @@ public:
         Schema s("shape", "disk", "Analytic unit disk in the z = 0 plane with normal +z.");
         s.cite("P. Shirley, K. Chiu, A Low Distortion Map Between Disk and Square, JGT 2(3), 1997");
         addCommonParams(s);
+        // effigi-conform: a needle-thin ellipse, tiny and huge, mirrored with inward normals.
+        s.addConformance({"default", {}});
+        s.addConformance({"thin ellipse", {{"to_world", Transform::scale({1e-3f, 10.f, 1.f})}}});
+        s.addConformance({"tiny", {{"to_world", Transform::scale(Vector3f(1e-4f))}}});
+        s.addConformance({"huge", {{"to_world", Transform::scale(Vector3f(1e4f))}}});
+        s.addConformance({"mirrored flipped", {{"to_world", Transform::rotate({1.f, 1.f, 0.f}, 60.f) *
+                                                                Transform::scale({-1.f, 1.f, 1.f})},
+                                               {"flip_normals", true}}});
         return s;
     }
 

@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace effigi {
@@ -42,7 +43,31 @@ public:
         s.cite("Mitsuba 3 documentation, Instance (instance)");
         s.transform("to_world", "Group-to-world transform (affine and invertible)");
         s.child("shape", "shapegroup", "The shapegroup to place (usually <ref id=\"...\"/>)").isRequired();
+        // effigi-conform: a group of a sphere and a square, placed rotated, scaled and
+        // moved, and mirrored at 1/100 scale.
+        if (auto g = conformanceGroup()) {
+            s.addConformance({"placed", {{"shapegroup", *g}, {"to_world", Transform::translate({0.3f, -0.2f, 0.1f}) *
+                                                                              Transform::rotate({1.f, 1.f, 1.f}, 30.f) *
+                                                                              Transform::scale(Vector3f(2.f))}}});
+            s.addConformance({"mirrored small", {{"shapegroup", *g}, {"to_world", Transform::scale({-1e-2f, 1e-2f, 1e-2f})}}});
+        }
         return s;
+    }
+
+    /// The group of the conformance configurations, made through the registry; absent
+    /// if a module cannot be made (the configurations are then left out).
+    static std::optional<PropertyValue> conformanceGroup() {
+        try {
+            Registry& reg = Registry::instance();
+            Properties sphere("shape", "sphere"), square("shape", "rectangle"), group("shape", "shapegroup");
+            sphere.set("center", PointValue{{1.5f, 0.f, 0.f}});
+            sphere.set("radius", 0.5);
+            group.set("sphere", ComponentValue{"shape", reg.create("shape", "sphere", sphere)});
+            group.set("square", ComponentValue{"shape", reg.create("shape", "rectangle", square)});
+            return ComponentValue{"shape", reg.create("shape", "shapegroup", group)};
+        } catch (const std::exception&) {
+            return std::nullopt;
+        }
     }
 
     explicit Instance(const Properties& p) {

@@ -127,6 +127,12 @@ public:
         s.optional("filename", ParamType::String, "OBJ file, relative to the scene file").isRequired();
         s.boolean("flip_tex_coords", true, "Flip the v texture coordinate (v -> 1 - v), as Mitsuba does");
         addMeshParams(s);
+        // effigi-conform: a non-convex mesh (tests/data/shapes/make_conform_meshes.py), also
+        // tiny, and with face normals turned inward.
+        const std::string torus = "tests/data/shapes/torus.obj";
+        s.addConformance({"torus", {{"filename", torus}}});
+        s.addConformance({"torus tiny", {{"filename", torus}, {"to_world", Transform::scale(Vector3f(1e-3f))}}});
+        s.addConformance({"torus face normals flipped", {{"filename", torus}, {"face_normals", true}, {"flip_normals", true}}});
         return s;
     }
 

@@ -23,6 +23,13 @@ public:
         s.optional("filename", ParamType::String, "PLY file, relative to the scene file").isRequired();
         s.boolean("flip_tex_coords", false, "Flip the v texture coordinate (v -> 1 - v); off by default, as in Mitsuba");
         addMeshParams(s);
+        // effigi-conform: a binary non-convex mesh without normals, squashed far away, and
+        // an ascii square with vertex and face colours (both from tests/data).
+        const std::string torus = "tests/data/shapes/torus.ply";
+        s.addConformance({"torus", {{"filename", torus}}});
+        s.addConformance({"torus squashed far", {{"filename", torus}, {"to_world", Transform::translate({-500.f, 200.f, 0.f}) *
+                                                                                       Transform::scale({1e2f, 1e2f, 0.1f})}}});
+        s.addConformance({"coloured square", {{"filename", std::string("tests/data/textures/quad.ply")}}});
         return s;
     }
 

@@ -17,6 +17,12 @@ public:
         Schema s("shape", "rectangle", "Square [-1,1]² in the z = 0 plane with normal +z (two triangles).");
         s.cite("Mitsuba 3 documentation, rectangle shape");
         addMeshParams(s);
+        // effigi-conform: a sliver, tiny and huge, rotated with inward normals.
+        s.addConformance({"default", {}});
+        s.addConformance({"sliver", {{"to_world", Transform::scale({1e2f, 1e-2f, 1.f})}}});
+        s.addConformance({"tiny", {{"to_world", Transform::scale(Vector3f(1e-4f))}}});
+        s.addConformance({"huge", {{"to_world", Transform::scale(Vector3f(1e4f))}}});
+        s.addConformance({"rotated flipped", {{"to_world", Transform::rotate({0.3f, 1.f, 0.2f}, 75.f)}, {"flip_normals", true}}});
         return s;
     }
 

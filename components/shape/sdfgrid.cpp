@@ -44,6 +44,12 @@ public:
         s.string("normals", "smooth", "Shading normals: 'smooth' (blended across cells) or 'analytic' (per cell)")
             .oneOf({"smooth", "analytic"});
         addCommonParams(s);
+        // effigi-conform: the grid of tests/data/sdfgrid (a torus and a sphere), also with
+        // analytic normals under a non-uniform scale.
+        const std::string grid = "tests/data/sdfgrid/shape.vol";
+        s.addConformance({"default", {{"filename", grid}}});
+        s.addConformance({"analytic stretched", {{"filename", grid}, {"normals", std::string("analytic")},
+                                                 {"to_world", Transform::scale({2.f, 0.5f, 1e-2f})}}});
         return s;
     }
 

@@ -193,6 +193,12 @@ public:
         s.optional("filename", ParamType::String, "Serialized mesh file, relative to the scene file").isRequired();
         s.integer("shape_index", 0, "Which mesh of the file to load (0 = the first)").atLeast(0.0);
         addMeshParams(s);
+        // effigi-conform: both meshes of a small file (a bare square; a prism with normals
+        // and uvs, tests/data/shapes/make_serialized.py), the second also flipped.
+        const std::string prism = "tests/data/shapes/prism.serialized";
+        s.addConformance({"square", {{"filename", prism}}});
+        s.addConformance({"prism", {{"filename", prism}, {"shape_index", std::int64_t(1)}}});
+        s.addConformance({"prism flipped", {{"filename", prism}, {"shape_index", std::int64_t(1)}, {"flip_normals", true}}});
         return s;
     }
 

@@ -26,8 +26,13 @@ public:
         s.point("center", Point3f(0.f), "Center in object space");
         s.real("radius", 1.0, "Radius in object space").withUnit("scene units");
         addCommonParams(s);
+        // effigi-conform: tiny and huge radii, inward normals, far from the origin (rotated).
+        s.addConformance({"default", {}});
         s.addConformance({"small", {{"radius", 1e-3}}});
         s.addConformance({"large", {{"radius", 1e4}}});
+        s.addConformance({"flipped", {{"flip_normals", true}}});
+        s.addConformance({"far", {{"radius", 0.5}, {"to_world", Transform::translate({1e3f, -2e3f, 5e2f}) *
+                                                                   Transform::rotate({1.f, 2.f, 3.f}, 40.f)}}});
         return s;
     }
 

@@ -52,13 +52,19 @@ public:
                                    "Mitsuba's spectral variants)")
             .oneOf({"auto", "variant", "float16", "uint8"});
         s.ignored("accel", "GPU texture hardware in Mitsuba; lookups here are always exact float arithmetic");
-        // There is no texture conformance suite yet; these name the extremes the unit tests
-        // (tests/test_textures.cpp) check, on the small image kept with the tests.
+        // effigi-conform (conformance/texture_suite.cpp): the small image of the unit tests
+        // (saturated primaries, black, white), every filter and wrap mode, uv shifted and
+        // tiled, and an HDR image.
         const std::string img = "tests/data/textures/grid.png";
         s.addConformance({"default", {{"filename", img}}});
         s.addConformance({"nearest clamp", {{"filename", img}, {"filter_type", std::string("nearest")},
                                             {"wrap_mode", std::string("clamp")}}});
         s.addConformance({"bilinear mirror raw", {{"filename", img}, {"wrap_mode", std::string("mirror")}, {"raw", true}}});
+        s.addConformance({"nearest mirror shifted tiled", {{"filename", img}, {"filter_type", std::string("nearest")},
+                                                          {"wrap_mode", std::string("mirror")},
+                                                          {"to_uv", Transform::translate({0.37f, 0.11f, 0.f}) *
+                                                                        Transform::scale({2.f, 2.f, 1.f})}}});
+        s.addConformance({"hdr", {{"filename", std::string("tests/data/emitters/sky.exr")}}});
         return s;
     }
 

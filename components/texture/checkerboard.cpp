@@ -34,6 +34,8 @@ public:
         s.addConformance({"default", {}});
         s.addConformance({"black and white", {{"color0", 0.0}, {"color1", 1.0}}});
         s.addConformance({"saturated", {{"color0", RGBValue{{1.f, 0.f, 0.f}}}, {"color1", RGBValue{{0.f, 0.f, 1.f}}}}});
+        s.addConformance({"huge values tiled 1000", {{"color0", 1e6}, {"color1", 0.0},
+                                                     {"to_uv", Transform::scale({1e3f, 1e3f, 1.f})}}});
         return s;
     }
 

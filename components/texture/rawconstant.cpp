@@ -27,6 +27,8 @@ public:
         s.vector("value", Vector3f(1.f), "The constant, returned as is (normal maps read it as a direction)");
         s.addConformance({"default", {}});
         s.addConformance({"flat normal", {{"value", VectorValue{{0.5f, 0.5f, 1.f}}}}});
+        s.addConformance({"zero", {{"value", VectorValue{{0.f, 0.f, 0.f}}}}});
+        s.addConformance({"huge", {{"value", VectorValue{{1e30f, 1e30f, 1e30f}}}}});
         return s;
     }
 

@@ -12,8 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
-#include <iterator>
+#include <string_view>
 #include <system_error>
 
 namespace effigi {
@@ -73,9 +72,7 @@ std::uint32_t crc32(const unsigned char* data, std::size_t n, std::uint32_t crc 
 /// OpenImageIO reports it, so an effigi error would no longer be one line. The chunk
 /// structure is checked first (lengths, CRCs, a closing IEND): truncated or altered
 /// files are refused here with their cause, and libpng only sees intact streams.
-void checkPng(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+void checkPng(const std::filesystem::path& file, const std::string& bytes) {
     static const char sig[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
     if (bytes.size() < 8 || bytes.compare(0, 8, sig, 8) != 0) return;  // not a PNG: OIIO decides
     const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -95,6 +92,45 @@ void checkPng(const std::filesystem::path& file) {
     }
 }
 
+/// OpenEXR allocates every header attribute at the size the file declares before reading
+/// it (an attribute of unknown type: Imf::OpaqueAttribute), so a damaged 40-byte file can
+/// make it allocate 2 GiB. The header is walked first (OpenEXR file layout: magic, version
+/// and flags, then per header attributes "name\0 type\0 int32 size, value", a NUL ending
+/// each header, and in a multi-part file one more NUL ending the list), and an attribute
+/// that claims more bytes than the file has left is refused here.
+void checkExr(const std::filesystem::path& file, const std::string& bytes) {
+    static const char magic[4] = {'\x76', '\x2f', '\x31', '\x01'};
+    if (bytes.size() < 8 || bytes.compare(0, 4, magic, 4) != 0) return;  // not OpenEXR: OIIO decides
+    const bool multipart = (static_cast<unsigned char>(bytes[5]) & 0x10) != 0;  // version flag bit 12
+    std::size_t pos = 8;
+    // A NUL-terminated string at pos (name or type of an attribute), pos moved past it.
+    auto cstring = [&](const char* what) {
+        std::size_t end = bytes.find('\0', pos);
+        if (end == std::string::npos)
+            cannotRead(file, fmt::format("truncated OpenEXR file (its header ends inside an attribute {})", what));
+        std::string_view s(bytes.data() + pos, end - pos);
+        pos = end + 1;
+        return s;
+    };
+    while (true) {
+        for (std::string_view name = cstring("name"); !name.empty(); name = cstring("name")) {
+            cstring("type");
+            if (bytes.size() - pos < 4) cannotRead(file, "truncated OpenEXR file (its header ends inside an attribute)");
+            const auto* b = reinterpret_cast<const unsigned char*>(bytes.data() + pos);
+            const std::int32_t size = std::int32_t(std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
+                                                   std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24);
+            pos += 4;
+            if (size < 0 || std::uint64_t(size) > bytes.size() - pos)
+                cannotRead(file, fmt::format("corrupt OpenEXR header (attribute '{}' claims {} bytes, the file has {} "
+                                             "left)", excerpt(name), size, bytes.size() - pos));
+            pos += std::size_t(size);
+        }
+        if (!multipart) return;
+        if (pos >= bytes.size()) cannotRead(file, "truncated OpenEXR file (it ends inside its headers)");
+        if (bytes[pos] == '\0') return;  // the empty header that ends a multi-part file's list
+    }
+}
+
 } // namespace
 
 Bitmap::Bitmap(int width, int height, int channels, std::vector<float> pixels, bool srgb)
@@ -107,10 +143,15 @@ Bitmap::Bitmap(int width, int height, int channels, std::vector<float> pixels, b
 }
 
 Bitmap Bitmap::load(const std::filesystem::path& file) {
-    // A regular file only: checkPng and the image readers read to the end (/dev/zero has
+    // A regular file only: the checks and the image readers read to the end (/dev/zero has
     // none), and opening a FIFO would wait for a writer.
-    regularFileSize(file, "image");
-    checkPng(file);
+    std::uint64_t fileBytes = 0;
+    {
+        const std::string bytes = readRegularFile(file, "image");
+        checkPng(file, bytes);
+        checkExr(file, bytes);
+        fileBytes = bytes.size();
+    }
     auto in = OIIO::ImageInput::open(file.string());
     if (!in) cannotRead(file, OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
@@ -123,12 +164,18 @@ Bitmap Bitmap::load(const std::filesystem::path& file) {
         cannotRead(file, "deep images are not supported");
     }
     // A corrupt header may claim any size: refuse more than 2^31 values (8 GiB of floats)
-    // rather than fail inside the allocator.
+    // rather than fail inside the allocator, and more than the file could hold: deflate,
+    // the strongest of the EXR and PNG codecs, expands a byte to at most 1032, so 16384
+    // values per byte (a floor of 2^24 values for tiny files) leaves every real image
+    // alone while a 600-byte file claiming 10^9 pixels is refused at once instead of
+    // decoded for minutes (fuzz finding, tests/data/regressions/image/).
     const std::uint64_t count = std::uint64_t(spec.width) * std::uint64_t(spec.height) * std::uint64_t(spec.nchannels);
-    if (count > (std::uint64_t(1) << 31)) {
+    const std::uint64_t plausible = std::max<std::uint64_t>(std::uint64_t(1) << 24, fileBytes * 16384);
+    if (count > (std::uint64_t(1) << 31) || count > plausible) {
         in->close();
-        cannotRead(file, fmt::format("image of {}x{}x{} values is too large", spec.width, spec.height,
-                                     spec.nchannels));
+        cannotRead(file, fmt::format("image of {}x{}x{} values is too large{}", spec.width, spec.height,
+                                     spec.nchannels,
+                                     count > plausible ? fmt::format(" for a file of {} bytes", fileBytes) : ""));
     }
     Bitmap bmp;
     bmp.m_width = spec.width;

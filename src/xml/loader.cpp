@@ -47,8 +47,13 @@ struct Builder {
         if (ids.empty())
             failAt(c.where, "<ref id=\"{}\">: unknown id (no object in the scene has an id)", excerpt(c.refId));
         std::string hint = didYouMean(c.refId, ids);
+        // Ids are the scene's text: each quoted through excerpt(), and a long list cut short.
+        constexpr std::size_t MaxListed = 20;
+        std::string list;
+        for (std::size_t i = 0; i < std::min(ids.size(), MaxListed); ++i) list += (i ? ", " : "") + excerpt(ids[i]);
+        if (ids.size() > MaxListed) list += fmt::format(", … ({} more)", ids.size() - MaxListed);
         failAt(c.where, "<ref id=\"{}\">: unknown id{} (ids in the scene: {})", excerpt(c.refId),
-               hint.empty() ? "" : fmt::format("; did you mean '{}'?", hint), fmt::join(ids, ", "));
+               hint.empty() ? "" : fmt::format("; did you mean '{}'?", excerpt(hint)), list);
     }
 
     Ref<IComponent> resolve(const xml::Child& c) {
@@ -58,19 +63,20 @@ struct Builder {
         auto cyc = std::find_if(building.begin(), building.end(), [&](auto& b) { return b.first == c.refId; });
         if (cyc != building.end()) {
             std::string chain;
-            for (auto it = cyc; it != building.end(); ++it) chain += it->first + " -> ";
-            failAt(c.where, "<ref id=\"{}\">: circular reference {}{} (declared at {})", c.refId, chain, c.refId,
-                   d->second->where.str());
+            for (auto it = cyc; it != building.end(); ++it) chain += excerpt(it->first) + " -> ";
+            failAt(c.where, "<ref id=\"{}\">: circular reference {}{} (declared at {})", excerpt(c.refId), chain,
+                   excerpt(c.refId), d->second->where.str());
         }
         // A reference to an object declared later: build it now.
         return build(*d->second, nullptr);
     }
 
-    /// The registry tag of an element. Mitsuba nests integrators in integrators (aov,
-    /// moment); inside an effigi renderer a nested <integrator> is a renderer too, unless
-    /// it names one of effigi's numerical integrators (mean, stratified).
-    std::string tagFor(const xml::Node& node, const xml::Node* parent) const {
-        if (node.tag == "integrator" && parent && parent->tag == "renderer" &&
+    /// The registry tag of an element, given its parent's. Mitsuba nests integrators in
+    /// integrators (aov, moment), at any depth; inside an effigi renderer a nested
+    /// <integrator> is a renderer too, unless it names one of effigi's numerical
+    /// integrators (mean, stratified).
+    std::string tagFor(const xml::Node& node, const std::string& parentTag) const {
+        if (node.tag == "integrator" && parentTag == "renderer" &&
             !registry.knows("integrator", node.type) && registry.knows("renderer", typeFor("renderer", node.type)))
             return "renderer";
         return node.tag;
@@ -87,8 +93,10 @@ struct Builder {
         return "path";
     }
 
-    Ref<IComponent> build(const xml::Node& node, const xml::Node* parent) {
-        const std::string tag = tagFor(node, parent);
+    /// `parentTag`: the registry tag the parent resolved to (a nested <integrator> may be
+    /// a renderer, and then so may its own nested <integrator>).
+    Ref<IComponent> build(const xml::Node& node, const xml::Node* parent, const std::string& parentTag = {}) {
+        const std::string tag = tagFor(node, parentTag);
         const std::string type = typeFor(tag, node.type);
         if (!node.id.empty())
             if (auto it = named.find(node.id); it != named.end()) return it->second;  // built on demand earlier
@@ -98,8 +106,8 @@ struct Builder {
             Ref<IComponent> obj;
             std::string childTag;
             if (c.node) {
-                obj = build(*c.node, &node);
-                childTag = tagFor(*c.node, &node);
+                obj = build(*c.node, &node, tag);
+                childTag = tagFor(*c.node, tag);
             } else {
                 obj = resolve(c);
                 childTag = tagOf(obj);
@@ -113,7 +121,7 @@ struct Builder {
         if (parent && !registry.knows(tag, type)) {
             try {
                 // A nested <integrator> in a renderer is most likely meant as a renderer.
-                bool nestedRenderer = tag == "integrator" && parent->tag == "renderer";
+                bool nestedRenderer = tag == "integrator" && parentTag == "renderer";
                 registry.info(nestedRenderer ? "renderer" : tag, type);
             } catch (const Error& e) {
                 std::string msg = e.what();
@@ -129,7 +137,7 @@ struct Builder {
             throw;
         } catch (const std::exception& ex) {
             // A component that throws something else still gets a located, one-line message.
-            failAt(node.where, "{} '{}': {}", tag, excerpt(node.type), ex.what());
+            failAt(node.where, "{} '{}': {}", tag, excerpt(node.type), excerpt(ex.what(), 300));
         }
         if (!obj) failAt(node.where, "{} '{}': the component could not be created", tag, excerpt(node.type));
         // Geometry out of range would reach the accelerator as invalid rays: refuse it here,

@@ -96,7 +96,7 @@ private:
         pugi::xml_node root;
         for (pugi::xml_node x : doc.children()) {
             if (x.type() != pugi::node_element) continue;
-            if (root) failAt(f.at(x.offset_debug()), "malformed XML: a second root element <{}>", x.name());
+            if (root) failAt(f.at(x.offset_debug()), "malformed XML: a second root element <{}>", excerpt(x.name()));
             root = x;
         }
         if (!root) failAt({filename, 0}, "malformed XML: no root element");
@@ -218,8 +218,8 @@ private:
         if (ec) canon = p;
         if (std::find(m_stack.begin(), m_stack.end(), canon) != m_stack.end()) {
             std::string chain;
-            for (const auto& s : m_stack) chain += s.filename().string() + " -> ";
-            e.fail("include cycle: {}{}", chain, canon.filename().string());
+            for (const auto& s : m_stack) chain += excerpt(s.filename().string()) + " -> ";
+            e.fail("include cycle: {}{}", chain, excerpt(canon.filename().string()));
         }
         m_stack.push_back(canon);
         // <path> entries of the included file hold while it is read, as in Mitsuba.

@@ -47,6 +47,16 @@ struct ConformanceConfig {
     std::vector<std::pair<std::string, PropertyValue>> params;
 };
 
+/// A departure of the published model a component implements from the ideal a
+/// conformance check holds it to, declared by the component with the reason: e.g. the
+/// Oren–Nayar fit's albedo reaching 1.05 at ρ = 1. The check then holds the component to
+/// `bound` instead, and reports the departure from the ideal as information.
+struct ConformanceAllowance {
+    std::string check;  ///< the check's name ("energy")
+    double bound = 0.0;
+    std::string reason;
+};
+
 class Schema {
 public:
     Schema() = default;
@@ -86,6 +96,14 @@ public:
     ParamSpec& ignored(const std::string& name, std::string doc);
 
     Schema& addConformance(ConformanceConfig c) { m_configs.push_back(std::move(c)); return *this; }
+    Schema& allow(ConformanceAllowance a) { m_allowances.push_back(std::move(a)); return *this; }
+    const std::vector<ConformanceAllowance>& allowances() const { return m_allowances; }
+    /// The allowance declared for a check, if any.
+    const ConformanceAllowance* allowance(const std::string& check) const {
+        for (const ConformanceAllowance& a : m_allowances)
+            if (a.check == check) return &a;
+        return nullptr;
+    }
 
     /// Check user properties against the schema and add defaults: unknown names and
     /// wrong types are errors naming file:line and the closest known parameter.
@@ -97,6 +115,7 @@ private:
     std::string m_tag, m_name, m_doc, m_reference;
     std::vector<ParamSpec> m_params;
     std::vector<ConformanceConfig> m_configs;
+    std::vector<ConformanceAllowance> m_allowances;
 };
 
 } // namespace effigi

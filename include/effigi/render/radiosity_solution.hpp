@@ -22,6 +22,18 @@
 
 namespace effigi {
 
+/// Implemented by renderers built on a RadiositySolution (radiosity, twopass): the report
+/// of their last solve, whose errorBound states how far the solution may be from the
+/// exact solution of its radiosity system (ISolver). conformance/renderer_suite.cpp reads it.
+class IRadiosityReport : public virtual IComponent {
+public:
+    static constexpr InterfaceId IID = interfaceId("IRadiosityReport");
+    static constexpr const char* Tag = "renderer";
+
+    /// The last solve's report (empty before the first render).
+    virtual const SolverReport& solverReport() const = 0;
+};
+
 class RadiositySolution {
 public:
     /// Schema entries: mesh, formfactor, solver, save_solution, load_solution, history.

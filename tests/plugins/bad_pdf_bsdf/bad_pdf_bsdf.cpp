@@ -3,9 +3,10 @@
 // the hemisphere (1/2π).
 //
 // sample() reports pdf() for its samples, so f·cos/pdf is "consistent" with pdf() and
-// the sample weight check cannot see the bug; pdf() still integrates to 1. Only the
-// chi-square test of sample() against pdf() can: cos θ/π and 1/2π differ by a factor of 2
-// at the pole (tests/plugins/run_plugin_tests.cmake).
+// the sample weight check cannot see the bug; pdf() still integrates to 1. The chi-square
+// test of sample() against pdf() can: cos θ/π and 1/2π differ by a factor of 2 at the
+// pole. So can the energy check at the reflectance's range end (1): the mean sampled
+// weight ρ cos θ · 2 is 4/3 ρ while f() integrates to ρ (tests/plugins/run_plugin_tests.cmake).
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
