@@ -163,6 +163,10 @@ Bitmap Bitmap::load(const std::filesystem::path& file) {
         in->close();
         cannotRead(file, "deep images are not supported");
     }
+    if (spec.depth > 1) {  // read_image would read every slice into a buffer sized for one
+        in->close();
+        cannotRead(file, fmt::format("volume images ({} slices) are not supported", spec.depth));
+    }
     // A corrupt header may claim any size: refuse more than 2^31 values (8 GiB of floats)
     // rather than fail inside the allocator, and more than the file could hold: deflate,
     // the strongest of the EXR and PNG codecs, expands a byte to at most 1032, so 16384
