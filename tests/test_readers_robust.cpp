@@ -3,6 +3,7 @@
 // path, instead of reading forever or blocking; declared counts cannot drive work past
 // the file's real size; and errors that quote the input quote it escaped and short
 // (excerpt()), so that no message spans lines or carries control bytes.
+#include "printable_line.hpp"
 #include "app_runner.hpp"
 #include "shape_helpers.hpp"
 #include "temp_files.hpp"
@@ -40,31 +41,6 @@ fs::path fifo() {
     return p;
 }
 
-/// Well-formed UTF-8 without control characters (C0, DEL, C1) or line separators: what
-/// a one-line message may hold. Written independently of excerpt(), which it checks.
-bool printableLine(const std::string& s) {
-    for (std::size_t i = 0; i < s.size();) {
-        const unsigned char c = static_cast<unsigned char>(s[i]);
-        if (c < 0x80) {
-            if (c < 0x20 || c == 0x7f) return false;
-            ++i;
-            continue;
-        }
-        std::size_t n = c >= 0xf0 ? 4 : c >= 0xe0 ? 3 : 2;
-        if (c < 0xc2 || c > 0xf4 || i + n > s.size()) return false;
-        std::uint32_t cp = c & (n == 2 ? 0x1f : n == 3 ? 0x0f : 0x07);
-        for (std::size_t k = 1; k < n; ++k) {
-            const unsigned char b = static_cast<unsigned char>(s[i + k]);
-            if ((b & 0xc0) != 0x80) return false;
-            cp = cp << 6 | (b & 0x3f);
-        }
-        const std::uint32_t least = n == 2 ? 0x80 : n == 3 ? 0x800 : 0x10000;
-        if (cp < least || cp > 0x10ffff || (cp >= 0xd800 && cp < 0xe000)) return false;  // overlong, surrogate
-        if (cp < 0xa0 || cp == 0x2028 || cp == 0x2029) return false;                        // C1, separators
-        i += n;
-    }
-    return true;
-}
 
 /// The message of parsing, then instantiating every top-level object of, the scene
 /// `xml` written as scene.xml in the scratch folder.
