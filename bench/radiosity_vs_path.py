@@ -13,46 +13,12 @@ are read with oiiotool (OpenImageIO's command-line tool), no Python image module
 import argparse
 import pathlib
 import re
-import subprocess
 import sys
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+from cornell_bench import ROOT, region_means, render
+
 PATH_SCENE = ROOT / "scenes/cornell-box/scene.xml"
 RAD_SCENE = ROOT / "scenes/cornell-box/radiosity.xml"
-REGIONS = ROOT / "tests/data/cornell/regions.txt"
-
-
-def regions():
-    for line in REGIONS.read_text().splitlines():
-        if line.strip() and not line.startswith("#"):
-            name, *box = line.split()
-            yield name, [float(v) for v in box]
-
-
-def region_means(exr, res):
-    """Mean of (R + G + B) / 3 per region, via oiiotool --cut --printstats."""
-    out = {}
-    for name, (x0, y0, x1, y1) in regions():
-        X0, Y0, X1, Y1 = int(x0 * res), int(y0 * res), int(x1 * res), int(y1 * res)
-        cmd = ["oiiotool", str(exr), "--cut", f"{X1 - X0}x{Y1 - Y0}+{X0}+{Y0}", "--printstats"]
-        text = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
-        avg = [float(v) for v in re.search(r"Stats Avg: ([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)", text).groups()]
-        out[name] = sum(avg) / 3.0
-    return out
-
-
-def render(binary, scene, out, defines, threads):
-    cmd = [str(binary), "render", str(scene), "-o", str(out), "--no-progress", "-v"]
-    for k, v in defines.items():
-        cmd += ["-D", f"{k}={v}"]
-    if threads:
-        cmd += ["-t", str(threads)]
-    run = subprocess.run(cmd, capture_output=True, text=True)
-    if run.returncode != 0:
-        sys.exit(f"effigi failed:\n{run.stdout}\n{run.stderr}")
-    seconds = float(re.search(r"samples in ([0-9.]+) s", run.stdout).group(1))
-    solve = re.search(r"^radiosity: .*$", run.stderr, re.M)
-    return seconds, solve.group(0) if solve else ""
 
 
 def main():
@@ -70,10 +36,12 @@ def main():
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     path_exr, rad_exr = out / "cornell-path.exr", out / "cornell-radiosity.exr"
-    path_sec, _ = render(args.effigi, PATH_SCENE, path_exr, {"spp": args.spp, "res": args.res}, args.threads)
-    rad_sec, solve = render(args.effigi, RAD_SCENE, rad_exr,
-                            {"spp": 4, "res": args.res, "elements": args.elements, "formfactor": args.formfactor,
-                             "solver": args.solver}, args.threads)
+    path_sec, _, _ = render(args.effigi, PATH_SCENE, path_exr, {"spp": args.spp, "res": args.res}, args.threads)
+    rad_sec, _, run = render(args.effigi, RAD_SCENE, rad_exr,
+                             {"spp": 4, "res": args.res, "elements": args.elements, "formfactor": args.formfactor,
+                              "solver": args.solver}, args.threads)
+    solve = re.search(r"^radiosity: .*$", run.stderr, re.M)
+    solve = solve.group(0) if solve else ""
     a, b = region_means(path_exr, args.res), region_means(rad_exr, args.res)
     print(f"Cornell box {args.res}x{args.res}: path tracer {args.spp} spp in {path_sec:.1f} s; "
           f"radiosity ({args.elements} elements, {args.formfactor}, {args.solver}) in {rad_sec:.1f} s")

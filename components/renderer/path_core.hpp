@@ -60,15 +60,25 @@ public:
     SampledSpectrum li(const Ray& ray, SampledWavelengths& lambda, ISampler& sampler) const {
         PathState s(ray);
         SurfaceInteraction si;
+        if (!m_scene.intersect(s.ray, si)) {
+            miss(s, lambda);
+            return s.L;
+        }
+        return liFromHit(s, si, lambda, sampler);
+    }
+
+    /// li() from the state `s` whose segment s.ray is already known to hit `si` (callers
+    /// that need the first hit before the path goes on: irradiancecache's gather rays).
+    SampledSpectrum liFromHit(PathState s, SurfaceInteraction si, SampledWavelengths& lambda, ISampler& sampler) const {
         std::optional<ShadowRay> shadow;
         for (;;) {
+            bool more = scatter(s, si, lambda, sampler, shadow);
+            if (shadow) s.L += shadow->contribution * shadowTransmittance(shadow->ray, lambda);
+            if (!more) break;
             if (!m_scene.intersect(s.ray, si)) {
                 miss(s, lambda);
                 break;
             }
-            bool more = scatter(s, si, lambda, sampler, shadow);
-            if (shadow) s.L += shadow->contribution * shadowTransmittance(shadow->ray, lambda);
-            if (!more) break;
         }
         return s.L;
     }

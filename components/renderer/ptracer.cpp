@@ -15,6 +15,7 @@
 // Shading normals get the adjoint correction |wo·ng · wi·ns| / |wo·ns · wi·ng| of Veach
 // 1997 §5.3, and paths crossing the geometric and shading hemispheres inconsistently end.
 //
+// The walk from the lights is light_path.hpp, shared with photon tracing (photonmap).
 // Parameters: max_depth (−1 unbounded; 0 nothing; 1 emitters seen directly; 2 direct
 // lighting, as in Mitsuba), rr_depth (Russian roulette from that depth on),
 // hide_emitters, samples_per_pass (spp is rendered in passes of this many samples; must
@@ -22,6 +23,8 @@
 // Needs a camera implementing ICameraImportance (perspective, thinlens, orthographic);
 // others are an error.
 // Reference: Veach 1997, PhD thesis, §4.A, §5.3, §8.1; Mitsuba 3 src/integrators/ptracer.cpp.
+#include "light_path.hpp"
+
 #include "effigi/core/progress.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
@@ -103,48 +106,14 @@ private:
         splat(cs.pFilm, es.L * (cosTheta * cs.weight / (es.pdfPosition * selPdf * cs.pdf)), lambda, block, ts);
     }
 
+    /// The shared light-path walk (light_path.hpp), every vertex connected to the camera.
     void traceLightPath(ISampler& sampler, SampledWavelengths& lambda, ImageBlock& block, TileStats& ts) const {
-        float selPdf;
-        const IEmitter* emitter = m_scene.sampleEmitter(sampler.get1D(), selPdf);
-        Point2f uPos = sampler.get2D(), uDir = sampler.get2D();
-        if (!emitter) return;
-        EmissionSample es = emitter->sampleEmission(uPos, uDir, lambda);
-        if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f) || es.L.isBlack()) return;
-        // Power leaving along the ray: radiance · cos for surfaces; intensity (delta
-        // positions) and infinite lights (rays through a disk facing them) need no cosine.
-        float cosTheta = (emitter->flags() & EmitterSurface) ? std::abs(dot(es.n, es.ray.d)) : 1.f;
-        SampledSpectrum beta = es.L * (cosTheta / (selPdf * es.pdfPosition * es.pdfDirection));
-        float eta = 1.f;
-        Ray ray = es.ray;
-        SurfaceInteraction si;
-        for (int depth = 1;; ++depth) {  // depth = segments traced so far
-            if (!m_scene.intersect(ray, si) || !si.bsdf) return;
-            if (m_maxDepth >= 0 && depth >= m_maxDepth) return;
-            const IBSDF& bsdf = *si.bsdf;
-            const Vector3f wo = si.toLocal(si.wo);  // toward the light side
-            const float woGeo = dot(si.n, si.wo);
-            connectCamera(si, bsdf, wo, woGeo, beta, sampler.get2D(), lambda, block, ts);
-
-            float uc = sampler.get1D();
-            Point2f u = sampler.get2D();
-            std::optional<BSDFSample> bs = bsdf.sample(si, wo, uc, u, lambda, TransportMode::Importance);
-            if (!bs || !(bs->pdf > 0.f) || bs->f.isBlack()) return;
-            Vector3f wiWorld = si.toWorld(bs->wi);
-            float wiGeo = dot(si.n, wiWorld);
-            // Light leaks through shading normals: both sides must agree (Veach §5.3).
-            if (!(woGeo * wo.z > 0.f) || !(wiGeo * bs->wi.z > 0.f)) return;
-            float correction = std::abs(wo.z * wiGeo / (bs->wi.z * woGeo));
-            beta *= bs->f * (std::abs(bs->wi.z) / bs->pdf * correction);
-            if (bs->isTransmission()) eta *= bs->eta;
-            if (beta.isBlack()) return;
-            if (m_maxDepth >= 0 && depth + 1 >= m_maxDepth) return;
-            if (depth + 1 > m_rrDepth) {
-                float q = std::min(beta.maxValue() * eta * eta, 0.95f);
-                if (!(sampler.get1D() < q)) return;
-                beta *= 1.f / q;
-            }
-            ray = si.spawnRay(wiWorld);
-        }
+        effigi::traceLightPath(m_scene, sampler, lambda, LightPathLimits{m_maxDepth, m_rrDepth},
+                               [&](const LightVertex& v) {
+                                   connectCamera(v.si, v.bsdf, v.wo, v.woGeo, v.beta, sampler.get2D(), v.lambda,
+                                                 block, ts);
+                                   return true;
+                               });
     }
 
     /// Splat the contribution of vertex si seen by the camera (Mitsuba's connect_sensor).

@@ -86,7 +86,14 @@ struct Builder {
     /// effigi has no media yet (a scene that declares one fails on its <medium>), and its
     /// `path` already crosses null interfaces as volpath does, so for every scene that
     /// loads, `volpath` and `volpathmis` are `path` (same parameters). Said at -v.
+    /// `lighttracer` (particle tracing connected to the camera) is Mitsuba's `ptracer`,
+    /// the same light-path walk photon mapping uses (light_path.hpp). Said at -v.
     std::string typeFor(const std::string& tag, const std::string& type) const {
+        if (tag == "renderer" && type == "lighttracer" && !registry.knows(tag, type)) {
+            static std::once_flag saidLight;
+            std::call_once(saidLight, [] { log::info("renderer 'lighttracer' is read as 'ptracer'"); });
+            return "ptracer";
+        }
         if (tag != "renderer" || (type != "volpath" && type != "volpathmis") || registry.knows(tag, type)) return type;
         static std::once_flag said;
         std::call_once(said, [&] { log::info("renderer '{}' is read as 'path' (no participating media)", type); });

@@ -21,7 +21,7 @@ set(EFFIGI ${PREFIX}/bin/effigi)
 set(CONFORM ${PREFIX}/bin/effigi-conform)
 # name -> source directory of each plugin project
 set(BAD bad_energy_diffuse bad_pdf_bsdf bad_grazing_accel bad_falloff_point bad_power_area bad_project_camera
-        bad_residual_solver bad_pdf_sphere bad_bound_texture bad_scale_renderer)
+        bad_residual_solver bad_pdf_sphere bad_bound_texture bad_scale_renderer bad_neighbour_store)
 set(PROJECTS phong_bsdf ${BAD} shadow_diffuse)
 set(SRC_phong_bsdf ${SOURCE_DIR}/examples/plugins/phong_bsdf)
 foreach(p ${BAD} shadow_diffuse)
@@ -175,6 +175,9 @@ elseif(STEP STREQUAL "bad")
   set(CATCH_bad_bound_texture "^bounded$")
   set(CATCH_bad_scale_renderer "^furnace sphere$|^sky plane$|^white furnace box$|^enclosure ")
   set(MUST_bad_scale_renderer "^sky plane$")
+  # Exactness checks only; "many queries" (10⁵ queries) is the one sure to meet the fault.
+  set(CATCH_bad_neighbour_store "^knn |^radius |^many queries$|^rebuild after insert$|^clear and reuse$|^one point$")
+  set(MUST_bad_neighbour_store "^many queries$")
   foreach(p ${BAD})
     conform(${p} ${WORK_DIR}/${p})
     expect("effigi-conform to exit with 1 on ${p}" "RC EQUAL 1" "${OUTPUT}")

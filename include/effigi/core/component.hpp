@@ -63,7 +63,7 @@ public:
     using IComponent::query;  // keep the typed helpers visible next to the override
     void* query(InterfaceId iid) override {
         void* found = nullptr;
-        ((iid == Is::IID ? (found = static_cast<Is*>(this), true) : false) || ...);
+        (void)((iid == Is::IID ? (found = static_cast<Is*>(this), true) : false) || ...);
         if (!found && iid == IComponent::IID) found = static_cast<IComponent*>(this);
         return found;
     }

@@ -98,6 +98,15 @@ public:
         }
         return w;
     }
+    /// Four given wavelengths with given pdfs (a cache that traces fixed wavelength nodes,
+    /// e.g. renderer irradiancecache: pdf 1 makes each slot the value at its node).
+    static SampledWavelengths fromNodes(const std::array<float, NSpectrumSamples>& lambda,
+                                        const std::array<float, NSpectrumSamples>& pdf) {
+        SampledWavelengths w;
+        w.m_lambda = lambda;
+        w.m_pdf = pdf;
+        return w;
+    }
     /// The same wavelength in every slot (tests, single-λ queries).
     static SampledWavelengths constant(float lambda) {
         SampledWavelengths w;
