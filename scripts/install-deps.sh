@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config ccache
   libembree-dev        # Embree 3: the default accelerator
   libopenimageio-dev   # bitmap textures, envmaps, non-EXR references (loaded only where used)
+  openimageio-tools    # oiiotool: region means and relMSE in the bench/ scripts
   libopenexr-dev       # EXR output
   libglm-dev           # vector math
   libosd-dev           # OpenSubdiv (subdivision surfaces)

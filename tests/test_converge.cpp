@@ -185,3 +185,22 @@ TEST_CASE("render: --time renders progressively and marks references", "[converg
     CHECK(std::stoull(std::string(in->spec().get_string_attribute("effigi/spp"))) >= 1);
     fs::remove_all(dir);
 }
+
+TEST_CASE("converge: another renderer keeps the parameters of the scene's that it shares", "[converge]") {
+    // max_depth 1 shows emitters only: the plane is black, relMSE against 0.5 is ~0.96.
+    // A renderer that lost the scene's max_depth (ptracer at its default, unbounded) would
+    // render the lit plane, relMSE ~0.
+    fs::path dir = tempDir("converge-keep");
+    fs::path ref = writeConstantReference(dir, 16);
+    AppResult r = runApp("converge " + Plane + " -D res=16 -D max_depth=1 --reference " + ref.string() +
+                         " --renderer path,ptracer --spp 4 --no-progress --out " + (dir / "out").string());
+    INFO(r.out);
+    REQUIRE(r.exitCode == 0);
+    std::vector<std::string> header;
+    std::map<std::string, double> last;
+    for (const auto& row : readCSV(dir / "out/convergence.csv", header)) last[row.at("configuration")] = std::stod(row.at("relmse"));
+    REQUIRE(last.size() == 2);
+    CHECK(last.at("path") > 0.9);
+    CHECK(last.at("ptracer") > 0.9);
+    fs::remove_all(dir);
+}

@@ -8,6 +8,7 @@
 #include "output_check.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/render/image_metrics.hpp"
 #include "effigi/render/progressive.hpp"
@@ -46,14 +47,24 @@ Variant parseVariant(const std::string& text) {
     return v;
 }
 
-/// Make the scene use renderer `type`: keep its parameters if it already is one.
+/// Make the scene use renderer `type`: keep its parameters if it already is one, else
+/// those of the scene's renderer that `type` also has (max_depth, rr_depth,
+/// hide_emitters, ...), so that every configuration renders the same light transport as
+/// the scene and its reference.
 void overrideRenderer(xml::Node& root, const std::string& type) {
     for (auto& child : root.children) {
         if (!child.node || child.node->tag != "renderer") continue;
         if (child.node->type != type) {
             xml::Node& n = *child.node;
+            Properties kept("renderer", type, n.where);
+            Registry& reg = Registry::instance();
+            if (reg.knows("renderer", type)) {
+                const Schema& schema = reg.info("renderer", type).schema;
+                for (const Properties::Entry& e : n.props.entries())
+                    if (!e.fromDefault && schema.find(e.name)) kept.set(e.name, e.value, e.where);
+            }
             n.type = type;
-            n.props = Properties("renderer", type, n.where);
+            n.props = std::move(kept);
             n.children.clear();
         }
         return;
