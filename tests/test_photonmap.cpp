@@ -9,6 +9,7 @@
 //   photons of a seed are the same whatever the thread count.
 // - Bad parameters are one-line errors naming file:line; extreme parameters render
 //   finite images.
+#include "cornell_regions.hpp"
 #include "xml_helpers.hpp"
 
 #include "../components/renderer/photon_map.hpp"
@@ -68,15 +69,6 @@ Image render(Scene& scene, std::uint64_t seed = 1) {
     return scene.camera().film().develop();
 }
 
-double regionMean(const Image& img, const float* box) {
-    double sum = 0.0;
-    int n = 0;
-    for (int y = int(box[1] * img.height); y < int(box[3] * img.height); ++y)
-        for (int x = int(box[0] * img.width); x < int(box[2] * img.width); ++x, ++n)
-            sum += (img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
-    return sum / n;
-}
-
 /// Mitsuba 3's 256² reference box-filtered down to res² (res divides 256).
 Image reference(int res) {
     auto in = OIIO::ImageInput::open(EFFIGI_SOURCE_DIR "/tests/data/cornell/mitsuba-reference.exr");
@@ -116,21 +108,13 @@ TEST_CASE("photonmap: the Cornell box agrees with the path-traced reference", "[
     // deviations, 4 % for the image, 12 % for the ceiling, 6 % for the other walls.
     auto scene = cornell(photonmap(""), {{"res", "64"}, {"spp", "16"}});
     Image ours = render(*scene), ref = reference(64);
-    std::ifstream in(EFFIGI_SOURCE_DIR "/tests/data/cornell/regions.txt");
-    std::string line;
-    int regions = 0;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::istringstream ss(line);
-        std::string name;
-        float box[4];
-        ss >> name >> box[0] >> box[1] >> box[2] >> box[3];
-        double a = regionMean(ours, box), b = regionMean(ref, box);
-        INFO(name << ": photonmap " << a << ", reference " << b << ", relative " << (a - b) / b);
-        CHECK(std::abs(a - b) <= (name == "image" ? 0.04 : name == "ceiling" ? 0.12 : 0.06) * b);
-        ++regions;
+    const std::vector<CornellRegion> regions = cornellRegions();
+    CHECK(regions.size() >= 7);
+    for (const CornellRegion& r : regions) {
+        double a = regionMean(ours, r), b = regionMean(ref, r);
+        INFO(r.name << ": photonmap " << a << ", reference " << b << ", relative " << (a - b) / b);
+        CHECK(std::abs(a - b) <= (r.name == "image" ? 0.04 : r.name == "ceiling" ? 0.12 : 0.06) * b);
     }
-    CHECK(regions >= 7);
     CHECK(allFinite(ours));
 }
 

@@ -1,6 +1,7 @@
 // The radiosity mesh, the renderers `radiosity` and `twopass` end to end, saving and
 // loading solutions, and the solution as an illumination map.
 #include "app_runner.hpp"
+#include "cornell_regions.hpp"
 #include "radiosity_helpers.hpp"
 #include "xml_helpers.hpp"
 
@@ -20,16 +21,6 @@ using namespace effigi::test;
 namespace {
 
 const std::string kCornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/radiosity.xml";
-
-/// Mean of (R + G + B)/3 over a region given as fractions of the image.
-double regionMean(const Image& img, float x0, float y0, float x1, float y1) {
-    double sum = 0.0;
-    int n = 0;
-    for (int y = int(y0 * img.height); y < int(y1 * img.height); ++y)
-        for (int x = int(x0 * img.width); x < int(x1 * img.width); ++x, ++n)
-            sum += (img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
-    return sum / n;
-}
 
 /// The same means from an EXR file (the Mitsuba 3 reference of tests/test_cornell.cpp).
 Image readExr(const std::string& path) {
@@ -133,21 +124,13 @@ TEST_CASE("radiosity renderer: the Cornell box agrees with the path tracer's ref
     RenderStats stats = scene->renderer().render(*scene, quiet());
     CHECK(stats.rejectedSamples == 0);
     Image ours = scene->camera().film().develop(), ref = readExr(EFFIGI_SOURCE_DIR "/tests/data/cornell/mitsuba-reference.exr");
-    std::ifstream in(EFFIGI_SOURCE_DIR "/tests/data/cornell/regions.txt");
-    std::string line;
-    int regions = 0;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::istringstream ss(line);
-        std::string name;
-        float x0, y0, x1, y1;
-        ss >> name >> x0 >> y0 >> x1 >> y1;
-        double a = regionMean(ours, x0, y0, x1, y1), b = regionMean(ref, x0, y0, x1, y1);
-        INFO(name << ": radiosity " << a << ", reference " << b << ", relative " << (a - b) / b);
-        CHECK(std::abs(a - b) <= (name == "image" ? 0.01 : 0.04) * b);
-        ++regions;
+    const std::vector<CornellRegion> regions = cornellRegions();
+    CHECK(regions.size() >= 7);
+    for (const CornellRegion& r : regions) {
+        double a = regionMean(ours, r), b = regionMean(ref, r);
+        INFO(r.name << ": radiosity " << a << ", reference " << b << ", relative " << (a - b) / b);
+        CHECK(std::abs(a - b) <= (r.name == "image" ? 0.01 : 0.04) * b);
     }
-    CHECK(regions >= 7);
 }
 
 TEST_CASE("radiosity renderer: progressive passes reuse the solution", "[radiosity][render]") {

@@ -12,6 +12,7 @@
 // - Dispersion: the caustic of a dispersive glass sphere (hero slot only on both sides)
 //   is finite and as bright, channel by channel, as ptracer's.
 // - Bad parameters are one-line errors naming file:line and the parameter.
+#include "cornell_regions.hpp"
 #include "xml_helpers.hpp"
 
 #include "../components/renderer/sppm_core.hpp"
@@ -69,16 +70,6 @@ Image render(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr, Ren
     RenderStats s = scene.renderer().render(scene, control);
     if (stats) *stats = s;
     return scene.camera().film().develop();
-}
-
-/// Mean grey (R + G + B) / 3 over [x0, x1) × [y0, y1) given as fractions of the image.
-double regionMean(const Image& img, float fx0, float fy0, float fx1, float fy1, int channel = -1) {
-    int x0 = int(fx0 * img.width), x1 = int(fx1 * img.width), y0 = int(fy0 * img.height), y1 = int(fy1 * img.height);
-    double sum = 0;
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x)
-            sum += channel >= 0 ? img.at(x, y, channel) : (img.at(x, y, 0) + img.at(x, y, 1) + img.at(x, y, 2)) / 3.0;
-    return sum / (double(x1 - x0) * (y1 - y0));
 }
 
 bool allFinite(const Image& img) {
@@ -145,17 +136,12 @@ TEST_CASE("sppm: the Cornell box agrees with path, image and walls", "[sppm][ren
     Image b = render(*s, 1, &stats);
     CHECK(stats.rejectedSamples == 0);
     REQUIRE(allFinite(b));
-    std::ifstream in(EFFIGI_SOURCE_DIR "/tests/data/cornell/regions.txt");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::istringstream ss(line);
-        std::string name;
-        float x0, y0, x1, y1;
-        ss >> name >> x0 >> y0 >> x1 >> y1;
-        const double pa = regionMean(a, x0, y0, x1, y1), pb = regionMean(b, x0, y0, x1, y1);
-        const double tol = name == "image" ? 0.03 : name == "ceiling" ? 0.10 : 0.06;
-        INFO(name << ": path " << pa << ", sppm " << pb << ", relative " << (pb - pa) / pa << ", tolerance " << tol);
+    const std::vector<CornellRegion> regions = cornellRegions();
+    CHECK(regions.size() >= 7);
+    for (const CornellRegion& r : regions) {
+        const double pa = regionMean(a, r), pb = regionMean(b, r);
+        const double tol = r.name == "image" ? 0.03 : r.name == "ceiling" ? 0.10 : 0.06;
+        INFO(r.name << ": path " << pa << ", sppm " << pb << ", relative " << (pb - pa) / pa << ", tolerance " << tol);
         CHECK(std::abs(pb - pa) / pa < tol);
     }
 }
