@@ -5,6 +5,7 @@
 #include "film_helpers.hpp"
 #include "image_helpers.hpp"
 #include "shape_helpers.hpp"
+#include "scene_text.hpp"
 #include "skip.hpp"
 #include "xml_helpers.hpp"
 
@@ -43,13 +44,6 @@ inline std::string replaced(std::string text, const std::string& from, const std
     std::size_t at = text.find(from);
     REQUIRE(at != std::string::npos);
     return text.replace(at, from.size(), to);
-}
-
-inline std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 /// A small scene; PARTS is replaced by the case's elements, CAMERA by the sensor's

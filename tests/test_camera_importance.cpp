@@ -9,6 +9,7 @@
 //   through a scaled orthographic camera (tests/data/ptracer/scene.xml, edited in memory).
 #include "camera_helpers.hpp"
 #include "image_helpers.hpp"
+#include "scene_text.hpp"
 
 #include "effigi/interfaces/icamera_importance.hpp"
 #include "effigi/interfaces/irenderer.hpp"
@@ -23,6 +24,7 @@
 #include <sstream>
 
 using namespace effigi;
+using effigi::test::readText;
 
 namespace {
 
@@ -193,13 +195,6 @@ TEST_CASE("orthographic: the importance integrates to 1 across the view", "[came
 }
 
 namespace {
-
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
     auto at = text.find(from);

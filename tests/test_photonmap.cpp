@@ -10,6 +10,7 @@
 // - Bad parameters are one-line errors naming file:line; extreme parameters render
 //   finite images.
 #include "cornell_regions.hpp"
+#include "scene_text.hpp"
 #include "xml_helpers.hpp"
 
 #include "../components/renderer/photon_map.hpp"
@@ -31,25 +32,12 @@ namespace {
 
 const std::string Cornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml";
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 /// The Cornell box with its integrator replaced by `integrator` (XML) and `extra`
 /// inserted before the geometry.
 std::unique_ptr<Scene> cornell(const std::string& integrator, std::map<std::string, std::string> defines,
                                const std::string& extra = "") {
-    std::string text = readText(Cornell);
-    auto a = text.find("<integrator type=\"path\">"), b = text.find("</integrator>");
-    REQUIRE(a != std::string::npos);
-    text.replace(a, b + 13 - a, integrator);
-    text.replace(text.find("<include"), 0, extra);
-    xml::ParseOptions opt;
-    opt.defines = std::move(defines);
-    return loadScene(*xml::parseString(text, Cornell, opt));
+    return loadWithIntegrator(Cornell, integrator, std::move(defines),
+                              extra.empty() ? TextEdits{} : TextEdits{{"<include", extra + "<include"}});
 }
 
 std::string photonmap(const std::string& params) {

@@ -12,6 +12,7 @@
 //           $EFFIGI_MITSUBA_CORPUS/tests/scenes/various_emitters/test_various_emitters_ptracer.xml
 //           tests/data/ptracer/various_emitters-128x16-mitsuba.exr --spp 8192 -D resx=128 -D resy=16
 #include "image_helpers.hpp"
+#include "scene_text.hpp"
 #include "skip.hpp"
 
 #include "effigi/core/error.hpp"
@@ -41,25 +42,10 @@ std::string corpusScene() {
     return dir ? std::string(dir) + "/tests/scenes/various_emitters/test_various_emitters_ptracer.xml" : "";
 }
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 /// A scene file with text `from` replaced by `to` (must occur).
 std::unique_ptr<Scene> loadEdited(const std::string& file, const std::string& from, const std::string& to,
                                   std::map<std::string, std::string> defines = {}) {
-    std::string text = readText(file);
-    if (!from.empty()) {
-        auto at = text.find(from);
-        REQUIRE(at != std::string::npos);
-        text.replace(at, from.size(), to);
-    }
-    xml::ParseOptions opt;
-    opt.defines = std::move(defines);
-    return loadScene(*xml::parseString(text, file, opt));
+    return test::loadEdited(file, from.empty() ? test::TextEdits{} : test::TextEdits{{from, to}}, std::move(defines));
 }
 
 Image render(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr) {

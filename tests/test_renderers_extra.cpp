@@ -6,6 +6,7 @@
 //                  tests/data/renderers/direct-mitsuba.exr --spp 1024   (Mitsuba 3.9.1,
 // scalar_spectral). The test scene uses a box filter, so pixels are independent.
 #include "image_helpers.hpp"
+#include "scene_text.hpp"
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -24,23 +25,9 @@ namespace {
 
 const std::string SceneFile = EFFIGI_SOURCE_DIR "/tests/data/renderers/direct.xml";
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 /// The test scene with its <integrator type="direct"/> replaced by `integrator`.
 std::unique_ptr<Scene> loadWith(const std::string& integrator, std::map<std::string, std::string> defines = {}) {
-    std::string text = readText(SceneFile);
-    const std::string from = "<integrator type=\"direct\"/>";
-    auto at = text.find(from);
-    REQUIRE(at != std::string::npos);
-    text.replace(at, from.size(), integrator);
-    xml::ParseOptions opt;
-    opt.defines = std::move(defines);
-    return loadScene(*xml::parseString(text, SceneFile, opt));
+    return test::loadEdited(SceneFile, {{"<integrator type=\"direct\"/>", integrator}}, std::move(defines));
 }
 
 struct Rendered {

@@ -13,6 +13,7 @@
 //   is finite and as bright, channel by channel, as ptracer's.
 // - Bad parameters are one-line errors naming file:line and the parameter.
 #include "cornell_regions.hpp"
+#include "scene_text.hpp"
 #include "xml_helpers.hpp"
 
 #include "../components/renderer/sppm_core.hpp"
@@ -33,29 +34,11 @@ using namespace effigi::test;
 
 namespace {
 
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 /// Scene file `file` with its <integrator ...>...</integrator> replaced by `integrator`.
 std::unique_ptr<Scene> withIntegrator(const std::string& file, const std::string& integrator,
                                       std::map<std::string, std::string> defines,
                                       std::pair<std::string, std::string> edit = {}) {
-    std::string text = readText(file);
-    if (!edit.first.empty()) {
-        auto at = text.find(edit.first);
-        REQUIRE(at != std::string::npos);
-        text.replace(at, edit.first.size(), edit.second);
-    }
-    auto a = text.find("<integrator"), b = text.find("</integrator>");
-    REQUIRE(a != std::string::npos);
-    text.replace(a, b + 13 - a, integrator);
-    xml::ParseOptions opt;
-    opt.defines = std::move(defines);
-    return loadScene(*xml::parseString(text, file, opt));
+    return loadWithIntegrator(file, integrator, std::move(defines), edit.first.empty() ? TextEdits{} : TextEdits{edit});
 }
 
 const std::string Cornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml";

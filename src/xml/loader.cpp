@@ -82,22 +82,30 @@ struct Builder {
         return node.tag;
     }
 
-    /// Mitsuba's volumetric path tracers are its path tracer plus participating media.
-    /// effigi has no media yet (a scene that declares one fails on its <medium>), and its
-    /// `path` already crosses null interfaces as volpath does, so for every scene that
-    /// loads, `volpath` and `volpathmis` are `path` (same parameters). Said at -v.
-    /// `lighttracer` (particle tracing connected to the camera) is Mitsuba's `ptracer`,
-    /// the same light-path walk photon mapping uses (light_path.hpp). Said at -v.
+    /// Renderer names effigi reads as another renderer (same parameters), each said once
+    /// at -v. Mitsuba's volumetric path tracers are its path tracer plus participating
+    /// media: effigi has no media yet (a scene that declares one fails on its <medium>),
+    /// and its `path` already crosses null interfaces as volpath does. `lighttracer`
+    /// (particle tracing connected to the camera) is Mitsuba's `ptracer`, the light-path
+    /// walk photon mapping also uses (light_path.hpp).
+    struct RendererAlias {
+        const char* name;
+        const char* as;
+        const char* why;
+    };
+    static constexpr RendererAlias RendererAliases[] = {{"volpath", "path", "no participating media"},
+                                                        {"volpathmis", "path", "no participating media"},
+                                                        {"lighttracer", "ptracer", "the same particle tracer"}};
     std::string typeFor(const std::string& tag, const std::string& type) const {
-        if (tag == "renderer" && type == "lighttracer" && !registry.knows(tag, type)) {
-            static std::once_flag saidLight;
-            std::call_once(saidLight, [] { log::info("renderer 'lighttracer' is read as 'ptracer'"); });
-            return "ptracer";
+        if (tag != "renderer" || registry.knows(tag, type)) return type;
+        static std::once_flag said[std::size(RendererAliases)];
+        for (std::size_t i = 0; i < std::size(RendererAliases); ++i) {
+            const RendererAlias& a = RendererAliases[i];
+            if (type != a.name) continue;
+            std::call_once(said[i], [&] { log::info("renderer '{}' is read as '{}' ({})", a.name, a.as, a.why); });
+            return a.as;
         }
-        if (tag != "renderer" || (type != "volpath" && type != "volpathmis") || registry.knows(tag, type)) return type;
-        static std::once_flag said;
-        std::call_once(said, [&] { log::info("renderer '{}' is read as 'path' (no participating media)", type); });
-        return "path";
+        return type;
     }
 
     /// `parentTag`: the registry tag the parent resolved to (a nested <integrator> may be
