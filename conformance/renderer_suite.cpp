@@ -5,10 +5,7 @@
 //    means (of the grey (R + G + B)/3) are compared with the exact value by Student's
 //    t-test (two-sided), so nothing is assumed about how pixels correlate (ptracer's light
 //    paths splat into many pixels). Renderers declared unbiased (the table below) are
-//    tested again at 8× the samples ("unbiased …"): small biases show there. Consistent
-//    but biased renderers (photon maps, caches) declare a relative "bias" allowance in
-//    their schema (Schema::allow, with the reason): only the part of the difference
-//    beyond it counts in the t-test, and the measured bias is reported.
+//    tested again at 8× the samples ("unbiased …"): small biases show there.
 //  - renderers that keep a per-pixel variance (IRenderer::varianceEstimate) must predict
 //    the spread of the K image means ("error bar …", χ² test of the variance ratio).
 //  - renderers built on a radiosity solution (IRadiosityReport) must show the exact value
@@ -60,11 +57,6 @@ struct Plan {
     std::string about;  ///< whose semantics: the component, or "nested path" for a wrapper
     Semantics semantics;
     const char* unbiased = nullptr;  ///< the reason, if declared unbiased
-    /// A consistent but biased renderer (density estimation, caching) declares through
-    /// its schema's allowance "bias" how far its image mean may sit from the exact value
-    /// at the suite's settings (relative), with the reason; 0 = none declared.
-    double biasBound = 0.0;
-    std::string biasWhy;
     bool colour = true;              ///< renders radiance (false: a wrapper without nested renderers)
 };
 
@@ -104,8 +96,6 @@ Plan planOf(Registry& reg, const std::string& component, const ParamList& config
         plan.semantics.hideEmitters = std::get<bool>(*h);
     for (const Declaration& d : Unbiased)
         if (name == d.name) plan.unbiased = d.why;
-    if (const ConformanceAllowance* a = reg.info("renderer", name).schema.allowance("bias"))
-        plan.biasBound = a->bound, plan.biasWhy = a->reason;
     return plan;
 }
 
@@ -192,14 +182,8 @@ void checkStochastic(Target& t, const Plan& plan, const AnalyticScene& s, double
     const int res = int(t.count(12, 8)), runs = int(t.count(24, 16)), spp = int(t.count(8, 4));
     auto test = [&](const std::string& check, int samples) {
         Renders r = render(t, s, res, samples, runs, check);
-        const double exact = factor * r.emitted, se = r.grey.stderror();
-        // A declared bias allowance: only the part of the difference beyond it counts.
-        const double allowed = plan.biasBound * exact, raw = r.grey.mean - exact;
-        const double diff = std::copysign(std::max(0.0, std::abs(raw) - allowed), raw);
+        const double exact = factor * r.emitted, se = r.grey.stderror(), diff = r.grey.mean - exact;
         double tStat = se > 0.0 ? diff / se : (std::abs(diff) <= 1e-6 * std::max(exact, 1e-3) ? 0.0 : INFINITY);
-        if (plan.biasBound > 0.0)
-            t.info("bias " + check, fmt::format("{:+.2f} %", 100.0 * raw / exact),
-                   fmt::format("declared allowance ±{:.2f} % of the exact value", 100.0 * plan.biasBound));
         t.test(check, studentPValue(tStat, runs - 1), fmt::format("t = {:.2f}", tStat),
                fmt::format("mean of {} renders ({}² px, {} spp): {:.6g} ± {:.2g}; exact {:.6g} ({:.6g} × Le) for {} at "
                            "max_depth {}{}; {} of {} pixel values not finite or negative",
@@ -256,11 +240,7 @@ void runRendererSuite(Target& t) {
     const bool solution = query<IRadiosityReport>(t.object()) != nullptr;
     Plan plan = planOf(t.registry(), t.component(), t.configuration().params);
     if (!solution && plan.colour)
-        t.info("declared",
-               plan.unbiased     ? "unbiased"
-               : plan.biasBound ? fmt::format("biased, ±{:.2f} %", 100.0 * plan.biasBound)
-                                 : "not declared unbiased",
-               plan.unbiased ? plan.unbiased : plan.biasWhy);
+        t.info("declared", plan.unbiased ? "unbiased" : "not declared unbiased", plan.unbiased ? plan.unbiased : "");
     for (const AnalyticScene& s : analyticScenes(t.quick())) {
         if (!plan.colour) break;
         if (solution && s.environment) {
