@@ -100,6 +100,19 @@ public:
         return std::isfinite(out.weight);
     }
 
+    /// generateRay's density of directions: uniform over the image plane, 1 / (A cos³θ).
+    float pdfDirection(const Vector3f& d) const override {
+        Vector3f local = m_toLocal.vector(d);
+        float len = length(local);
+        if (!(local.z > 0.f) || !(len > 0.f)) return 0.f;
+        Point2f pFilm;
+        if (!camera::filmPosition(Vector2f(local.x / local.z, local.y / local.z), m_filmSize, m_tanHalf, pFilm,
+                                  m_offset))
+            return 0.f;
+        float cosTheta = local.z / len;
+        return 1.f / (m_area * cosTheta * cosTheta * cosTheta);
+    }
+
 private:
     float m_area = 4.f;  // of the image plane z = 1
     Vector2f m_offset{0.f}, m_filmSize{1.f}, m_tanHalf{1.f};

@@ -125,6 +125,17 @@ public:
         return true;
     }
 
+    /// Given the lens point, a direction is as likely as its point on the plane of focus,
+    /// uniform over that plane's window: 1 / (A cos³θ), as for a pinhole. (Whether the point
+    /// falls inside the window depends on the lens point, which is not known here.)
+    float pdfDirection(const Vector3f& d) const override {
+        Vector3f local = m_toLocal.vector(d);
+        float len = length(local);
+        if (!(local.z > 0.f) || !(len > 0.f)) return 0.f;
+        float cosTheta = local.z / len;
+        return 1.f / (m_area * cosTheta * cosTheta * cosTheta);
+    }
+
 private:
     float m_aperture = 0.f, m_focus = 1e4f, m_area = 4.f;
     Vector2f m_filmSize{1.f}, m_tanHalf{1.f};

@@ -123,6 +123,16 @@ public:
         return es;
     }
 
+    /// Positions uniform by area (IShape::samplePosition), directions cosine-weighted
+    /// about the front side's normal n.
+    bool pdfEmission(const Point3f&, const Normal3f& n, const Vector3f& d, float& pdfPosition,
+                     float& pdfDirection) const override {
+        float area = m_shape ? m_shape->area() : 0.f;
+        pdfPosition = area > 0.f ? 1.f / area : 0.f;
+        pdfDirection = std::max(dot(n, d), 0.f) * InvPi;
+        return true;
+    }
+
     /// Φ = π · A · L for a Lambertian emitter of constant radiance L (luminance-weighted).
     float power() const override { return m_shape ? Pi * m_shape->area() * m_luminance * m_scale : 0.f; }
 

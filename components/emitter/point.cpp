@@ -82,6 +82,13 @@ public:
                                            m_intensity.sample(lambda));
     }
 
+    bool pdfEmission(const Point3f&, const Normal3f&, const Vector3f&, float& pdfPosition,
+                     float& pdfDirection) const override {
+        pdfPosition = 1.f;
+        pdfDirection = Inv4Pi;
+        return true;
+    }
+
     /// Φ = 4π · I.
     float power() const override { return 4.f * Pi * m_luminance; }
 

@@ -109,6 +109,20 @@ public:
                                            m_irradiance->eval(lookup(uv), lambda) * (Pi * m_scale * dist3));
     }
 
+    /// sampleEmission's density: uniform over the image rectangle at z = 1, dist³ / (4 hx hy).
+    bool pdfEmission(const Point3f&, const Normal3f&, const Vector3f& d, float& pdfPosition,
+                     float& pdfDirection) const override {
+        pdfPosition = 1.f;
+        pdfDirection = 0.f;
+        Vector3f local = m_toLocal.vector(d);
+        if (!(local.z > 0.f)) return true;
+        Vector3f plane = local / local.z;
+        if (!(std::abs(plane.x) <= m_half.x && std::abs(plane.y) <= m_half.y)) return true;
+        float dist = length(plane);
+        pdfDirection = dist * dist * dist / (4.f * m_half.x * m_half.y);
+        return true;
+    }
+
     /// Φ ≈ π · scale · mean texture · (area of the image at unit distance): the flux
     /// through the plane z = 1 (only used to weigh lights).
     float power() const override { return Pi * m_scale * m_irradiance->mean() * 4.f * m_half.x * m_half.y; }

@@ -109,6 +109,14 @@ public:
                                            emitted(d, lambda));
     }
 
+    /// Directions uniform in the cutoff cone about the axis.
+    bool pdfEmission(const Point3f&, const Normal3f&, const Vector3f& d, float& pdfPosition,
+                     float& pdfDirection) const override {
+        pdfPosition = 1.f;
+        pdfDirection = warp::squareToUniformConePdf(Vector3f(0.f, 0.f, dot(m_axis, d)), m_cosCutoff);
+        return true;
+    }
+
     /// Φ = I · ∫ falloff dω (the texture's mean weighs a slide in).
     float power() const override {
         return m_luminance * m_coneSolidAngle * (m_texture ? m_texture->mean() : 1.f);

@@ -3,7 +3,7 @@
 // Paths start at the lights (IEmitter::sampleEmission) and are continued by BSDF
 // sampling in importance transport mode; every surface vertex is connected to the
 // camera (ICameraImportance::sampleDirection) and its contribution splatted onto the
-// film at the position it projects to. Emitters seen directly are a separate estimate
+// film at the position it projects to (film_splat.hpp). Emitters seen directly are a separate estimate
 // per path: a point chosen on a surface emitter (or a direction toward an infinite one)
 // is connected to the camera; delta lights cannot be seen. As in Mitsuba, a pass traces
 // spp · (full film pixels) light paths and each splat is scaled so the image matches
@@ -23,6 +23,7 @@
 // Needs a camera implementing ICameraImportance (perspective, thinlens, orthographic);
 // others are an error.
 // Reference: Veach 1997, PhD thesis, §4.A, §5.3, §8.1; Mitsuba 3 src/integrators/ptracer.cpp.
+#include "film_splat.hpp"
 #include "light_path.hpp"
 
 #include "effigi/core/progress.hpp"
@@ -59,8 +60,8 @@ class LightTracer {
 public:
     LightTracer(const Scene& scene, const ICameraImportance& camera, const FilterTable& filter, int maxDepth,
                 int rrDepth, bool hideEmitters)
-        : m_scene(scene), m_camera(camera), m_filter(filter), m_maxDepth(maxDepth), m_rrDepth(rrDepth),
-          m_hideEmitters(hideEmitters), m_offset(scene.camera().film().cropOffset()) {
+        : m_scene(scene), m_camera(camera), m_splatter(filter, scene.camera().film().cropOffset()),
+          m_maxDepth(maxDepth), m_rrDepth(rrDepth), m_hideEmitters(hideEmitters) {
         Point3f cam = scene.camera().toWorld().point(Point3f(0.f));
         // Far enough for a direction toward an infinite light to leave the whole scene.
         m_farDistance = 2.f * (scene.bbox().boundingRadius() + length(cam - scene.bbox().center())) + 1.f;
@@ -132,35 +133,16 @@ private:
         splat(cs.pFilm, beta * f * (std::abs(wi.z) * correction * cs.weight / cs.pdf), lambda, block, ts);
     }
 
-    /// XYZ of the spectral contribution, spread over the filter with weights summing to 1.
     void splat(const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda, ImageBlock& block,
                TileStats& ts) const {
-        Vector3f xyz = cie::toXYZ(L, lambda);
-        if (!isFinite(xyz)) {
-            ++ts.rejected;
-            return;
-        }
-        Point2f pos = pFilm - Point2f(m_offset);
-        float norm = footprint(pos.x) * footprint(pos.y);
-        if (!(norm > 0.f)) return;
-        xyz /= norm;
-        block.put(pos, &xyz.x);
-    }
-
-    /// Sum of the filter's weights over the pixel centres within its radius of x.
-    float footprint(float x) const {
-        float r = m_filter.radius(), sum = 0.f;
-        for (int i = int(std::floor(x - r - 0.5f)); i <= int(std::ceil(x + r - 0.5f)); ++i)
-            sum += m_filter(float(i) + 0.5f - x);
-        return sum;
+        m_splatter.splat(pFilm, L, lambda, block, ts);
     }
 
     const Scene& m_scene;
     const ICameraImportance& m_camera;
-    const FilterTable& m_filter;
+    FilmSplatter m_splatter;
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
-    Point2i m_offset;
     float m_farDistance = 1.f;
 };
 

@@ -52,6 +52,12 @@ void IEmitter::attach(const IShape* shape) {
 
 float IEmitter::pdfDirect(const Point3f&, const SurfaceInteraction&) const { return 0.f; }
 
+bool IEmitter::pdfEmission(const Point3f&, const Normal3f&, const Vector3f&, float& pdfPosition,
+                           float& pdfDirection) const {
+    pdfPosition = pdfDirection = 0.f;
+    return false;
+}
+
 SampledSpectrum IEmitter::eval(const SurfaceInteraction&, const SampledWavelengths&) const {
     return SampledSpectrum(0.f);
 }

@@ -43,6 +43,16 @@ public:
     /// Connect `ref` to the camera with lens sample u. False (and pdf 0) if the point is
     /// outside the field of view or the clip range.
     virtual bool sampleDirection(const Point3f& ref, const Point2f& u, CameraImportanceSample& out) const = 0;
+
+    /// Density per unit solid angle with which ICamera::generateRay, given the point on
+    /// the lens the ray starts from, produces the world direction d (unit): 1 / (A cos³θ)
+    /// for perspective and thin-lens cameras, 0 outside the field of view. Bidirectional
+    /// renderers need it for multiple importance sampling. The default (0) says the camera
+    /// has no such density (orthographic: its direction is a delta).
+    virtual float pdfDirection(const Vector3f& d) const {
+        (void)d;
+        return 0.f;
+    }
 };
 
 } // namespace effigi

@@ -67,6 +67,13 @@ public:
 
     virtual EmissionSample sampleEmission(const Point2f& uPos, const Point2f& uDir,
                                           const SampledWavelengths& lambda) const = 0;
+    /// The densities with which sampleEmission() produces a ray leaving the point p (normal
+    /// n, on the light) along the unit direction d: pdfPosition per unit area (1 for a delta
+    /// position) and pdfDirection per solid angle. Bidirectional renderers need them for
+    /// multiple importance sampling. False (both 0) where the emitter does not provide
+    /// them: the default, and infinite emitters, whose rays start at infinity.
+    virtual bool pdfEmission(const Point3f& p, const Normal3f& n, const Vector3f& d, float& pdfPosition,
+                             float& pdfDirection) const;
 
     /// Approximate emitted power (luminance-weighted), for choosing among lights.
     virtual float power() const = 0;

@@ -1,0 +1,243 @@
+// renderer "bdpt" — bidirectional path tracing (Veach 1997; Lafortune & Willems 1993).
+//
+// Every camera sample traces a camera subpath and a light subpath and joins them in all
+// ways (s, t) that give a path of at most max_depth segments (bdpt_connect.hpp): the
+// camera path hitting a light (s = 0), light sampling (s = 1), light tracing to the
+// camera (t = 1, splatted anywhere on the film) and connections of inner vertices. The
+// strategies are combined with the power heuristic, which makes light arriving through
+// small openings, caustics seen in mirrors and other paths that are hard from one side
+// cheap from the other. Infinite emitters (envmap, constant, directional) cannot start
+// light subpaths here; they are reached by the camera subpath and by light sampling,
+// combined as in `path`. Pass-through (null) surfaces count as delta vertices, and so as
+// segments for max_depth (path does not count them).
+//
+// The image is the camera-side estimate plus the light-tracing splats, scaled like
+// ptracer's: light subpaths are as many as camera samples, so with the camera's
+// importance normalised over the full film a splat weighs (full-film pixels) /
+// (rendered pixels · spp).
+//
+// Parameters (Mitsuba 0.6 `bdpt` semantics): max_depth (−1 unbounded; 0 black; 1 lights
+// seen directly), rr_depth (Russian roulette from that many segments on), hide_emitters.
+// Needs a camera with a density of directions: perspective or thinlens.
+// Reference: E. Veach, PhD thesis, 1997, ch. 10; E. Veach, L. Guibas, "Bidirectional
+// Estimators for Light Transport", 1994; pbrt 3rd ed., §16.3.
+#include "bdpt_connect.hpp"
+#include "film_splat.hpp"
+#include "mis.hpp"
+
+#include "effigi/core/progress.hpp"
+#include "effigi/core/registry.hpp"
+#include "effigi/interfaces/ifilm.hpp"
+#include "effigi/interfaces/ifilter.hpp"
+#include "effigi/interfaces/irenderer.hpp"
+#include "effigi/render/tile_renderer.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <memory>
+
+namespace effigi {
+namespace {
+
+using namespace bdpt;
+
+/// One thread's sampler, blocks (camera-side estimate, light-tracing splats) and paths.
+struct ThreadState {
+    Ref<ISampler> sampler;
+    ImageBlock camera, splats;
+    TileStats stats;
+    std::vector<Vertex> cameraPath, lightPath;
+};
+
+class Bidirectional {
+public:
+    Bidirectional(Context ctx, const FilterTable& filter, Point2i cropOffset, bool hideEmitters)
+        : m_ctx(std::move(ctx)), m_splatter(filter, cropOffset), m_hideEmitters(hideEmitters) {}
+
+    /// All strategies of one camera sample: the camera-side radiance is returned, the
+    /// light-tracing strategies are splatted into ts's splat block.
+    SampledSpectrum sample(FilmSample& fs, ThreadState& ts) const {
+        ISampler& sampler = *ts.sampler;
+        std::vector<Vertex>& cam = ts.cameraPath;
+        std::vector<Vertex>& light = ts.lightPath;
+        Escape escape;
+        cameraSubpath(m_ctx, fs.ray, fs.weight, sampler, fs.lambda, cam, escape);
+        lightSubpath(m_ctx, sampler, fs.lambda, light);
+        SampledSpectrum L = environment(cam, escape, sampler, fs.lambda);
+        const int nCam = int(cam.size()), nLight = int(light.size());
+        for (int t = 1; t <= nCam; ++t) {
+            for (int s = 0; s <= nLight; ++s) {
+                if (s + t < 2 || (s == 1 && t == 1) || s + t - 1 > m_ctx.maxDepth) continue;
+                if (s == 0 && t == 2 && m_hideEmitters) continue;
+                Point2f pFilm;
+                SampledSpectrum Lpath = connect(m_ctx, light.data(), cam.data(), s, t, sampler, fs.lambda, pFilm);
+                if (t != 1) L += Lpath;
+                else if (!Lpath.isBlack()) m_splatter.splat(pFilm, Lpath, fs.lambda, ts.splats, ts.stats);
+            }
+        }
+        return L;
+    }
+
+private:
+    /// Infinite emitters: found by the camera subpath leaving the scene, and sampled from
+    /// each camera vertex; the two combined by the power heuristic (as in path).
+    SampledSpectrum environment(const std::vector<Vertex>& cam, const Escape& escape, ISampler& sampler,
+                                const SampledWavelengths& lambda) const {
+        const Scene& scene = m_ctx.scene;
+        const std::vector<const IEmitter*>& envs = scene.environments();
+        SampledSpectrum L(0.f);
+        if (envs.empty()) return L;
+        const float selEnv = 1.f / float(envs.size());
+        if (!escape.beta.isBlack() && escape.segments <= m_ctx.maxDepth && !(escape.segments == 1 && m_hideEmitters)) {
+            for (const IEmitter* env : envs) {
+                float w = escape.delta ? 1.f
+                                       : mis::powerHeuristic(escape.pdfDir,
+                                                             selEnv * env->pdfEnvironment(escape.ray.o, escape.ray.d));
+                L += escape.beta * env->evalEnvironment(escape.ray.d, lambda) * w;
+            }
+        }
+        for (std::size_t i = 1; i < cam.size() && int(i) + 1 <= m_ctx.maxDepth; ++i) {
+            const Vertex& v = cam[i];
+            float uSel = sampler.get1D();
+            Point2f u = sampler.get2D();
+            if (!v.connectible()) continue;
+            const IEmitter* env = envs[std::min(std::size_t(uSel * float(envs.size())), envs.size() - 1)];
+            EmitterSample es = env->sampleDirect(v.p(), u, lambda);
+            if (!(es.pdf > 0.f) || es.L.isBlack()) continue;
+            const Vector3f wo = v.si.toLocal(v.si.wo), wi = v.si.toLocal(es.wi);
+            SampledSpectrum f = v.si.bsdf->f(v.si, wo, wi, lambda, TransportMode::Radiance) * std::abs(wi.z);
+            if (f.isBlack()) continue;
+            Ray shadow = v.si.spawnRay(es.wi);
+            SampledSpectrum tr = scene.hasNullBSDFs() ? scene.transmittance(shadow, lambda)
+                                                      : SampledSpectrum(scene.occluded(shadow) ? 0.f : 1.f);
+            float pdfLight = selEnv * es.pdf;
+            float w = es.delta ? 1.f
+                               : mis::powerHeuristic(pdfLight, v.si.bsdf->pdf(v.si, wo, wi, lambda, TransportMode::Radiance));
+            L += v.beta * f * es.L * tr * (w / pdfLight);
+        }
+        return L;
+    }
+
+    Context m_ctx;
+    FilmSplatter m_splatter;
+    bool m_hideEmitters;
+};
+
+class BdptRenderer final : public Implements<IRenderer> {
+public:
+    static Schema schema() {
+        Schema s("renderer", "bdpt", "Bidirectional path tracing: every join of a camera and a light subpath, "
+                                     "weighted by the power heuristic.");
+        s.cite("E. Veach, Robust Monte Carlo Methods for Light Transport Simulation, PhD thesis, 1997, ch. 10");
+        s.integer("max_depth", -1, "Longest path in segments (-1: unbounded; 0: black; 1: emitters only)").atLeast(-1);
+        s.integer("rr_depth", 5, "Segments after which Russian roulette may end subpaths").atLeast(1);
+        s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
+        s.ignored("samples_per_pass", "effigi renders in passes of its own (see effigi render --spp)");
+        s.ignored("timeout", "use effigi render --time for a time budget");
+        s.ignored("lightImage", "the light-tracing strategies are always on");
+        s.ignored("sampleDirect", "the direct-sampling strategies are always on");
+        s.addConformance({"default", {}});
+        for (std::int64_t d : {0, 1, 2, 3})
+            s.addConformance({fmt::format("max_depth {}", d), {{"max_depth", d}}});
+        s.addConformance({"rr_depth 1", {{"rr_depth", std::int64_t(1)}}});
+        s.addConformance({"hide_emitters", {{"hide_emitters", true}}});
+        return s;
+    }
+
+    explicit BdptRenderer(const Properties& p)
+        : m_maxDepth(int(p.getInt("max_depth"))), m_rrDepth(int(p.getInt("rr_depth"))),
+          m_hideEmitters(p.getBool("hide_emitters")) {}
+
+    RenderStats render(const Scene& scene, const RenderControl& control) override;
+
+private:
+    /// Unbounded paths (max_depth −1) still end by Russian roulette; this caps the
+    /// vertex arrays of pathological scenes (two facing perfect mirrors).
+    static constexpr int UnboundedDepth = 1024;
+    int m_maxDepth, m_rrDepth;
+    bool m_hideEmitters;
+};
+
+RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& control) {
+    ICamera& camera = scene.camera();
+    IFilm& film = camera.film();
+    const auto* importance = query<ICameraImportance>(&camera);
+    if (!importance || !(importance->pdfDirection(camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
+        fail("{}: renderer 'bdpt' needs a camera with a density of directions (perspective or thinlens), not '{}'",
+             scene.sourceFile, camera.typeName());
+    if (!control.accumulate) film.prepare({"X", "Y", "Z"});
+    RenderStats stats;
+    if (m_maxDepth == 0) return stats;
+
+    Context ctx{scene, *importance, camera.toWorld().inverse(), {}, m_maxDepth < 0 ? UnboundedDepth : m_maxDepth,
+                m_rrDepth};
+    for (const IEmitter* e : scene.emitters())
+        if (!e->isInfinite()) ctx.lights.push_back(e);
+    std::unique_ptr<tbb::global_control> limit;
+    if (control.threads > 0)
+        limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                      std::size_t(control.threads));
+    FilterTable filter(film.filter());
+    const Bidirectional tracer(std::move(ctx), filter, film.cropOffset(), m_hideEmitters);
+    const SampleRange range{control.sampleOffset, control.sampleCount ? control.sampleCount
+                                                                      : std::uint64_t(camera.sampler().samplesPerPixel())};
+    const Vector2i size = film.size();
+    tbb::enumerable_thread_specific<ThreadState> threads([&] {
+        return ThreadState{camera.sampler().clone(control.seed), film.createBlock(Point2i(0), size),
+                           film.createBlock(Point2i(0), size), {}, {}, {}};
+    });
+    ProgressBar progress("Rendering (bdpt)", std::uint64_t(size.x) * size.y * range.count, control.progress);
+    auto start = std::chrono::steady_clock::now();
+    tbb::parallel_for(0, size.y, [&](int y) {
+        if (control.stopRequested()) return;
+        ThreadState& ts = threads.local();
+        for (int x = 0; x < size.x; ++x) {
+            ts.sampler->startPixel({x, y});
+            for (std::uint64_t k = range.first; k < range.first + range.count; ++k) {
+                ts.sampler->startSample(k);
+                FilmSample fs = sampleCamera(camera, *ts.sampler, {x, y});
+                Vector3f xyz = cie::toXYZ(tracer.sample(fs, ts), fs.lambda);
+                if (!isFinite(xyz)) {
+                    ++ts.stats.rejected;
+                    xyz = Vector3f(0.f);
+                }
+                ts.camera.put(fs.pFilm, &xyz.x);
+                ++ts.stats.samples;
+            }
+        }
+        progress.update(std::uint64_t(size.x) * range.count);
+    });
+    progress.finish();
+
+    // Camera-side sums and weights, plus the splats scaled so that the developed pixel is
+    // (camera sum / weight) + splats · full-film pixels / (light paths).
+    ImageBlock total = film.createBlock(Point2i(0), size);
+    std::vector<float> splats(total.data().size(), 0.f);
+    for (const ThreadState& ts : threads) {
+        for (std::size_t i = 0; i < splats.size(); ++i) {
+            total.data()[i] += ts.camera.data()[i];
+            splats[i] += ts.splats.data()[i];
+        }
+        stats.samples += ts.stats.samples;
+        stats.rejectedSamples += ts.stats.rejected;
+    }
+    const Vector2i full = film.fullSize();
+    const double lightPaths = double(std::max<std::uint64_t>(stats.samples, 1));
+    const float scale = float(double(full.x) * double(full.y) / lightPaths);
+    std::vector<float>& data = total.data();
+    const std::size_t stride = std::size_t(total.stride()), channels = std::size_t(total.channels());
+    for (std::size_t i = 0; i < data.size(); i += stride)
+        for (std::size_t c = 0; c < channels; ++c) data[i + c] += splats[i + c] * data[i + channels] * scale;
+    film.put(total);
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.interrupted = control.stopRequested();
+    return stats;
+}
+
+} // namespace
+} // namespace effigi
+
+EFFIGI_EXPORT_COMPONENT(effigi::BdptRenderer)
