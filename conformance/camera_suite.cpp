@@ -31,6 +31,8 @@
 
 namespace effigi::conform {
 
+void checkDirectionDensity(Target& t, const ICamera& cam, const ICameraImportance& imp);  // camera_density.cpp
+
 namespace {
 
 constexpr double U = 0x1p-24;  // float unit roundoff
@@ -358,6 +360,7 @@ void runCameraSuite(Target& t) {
     }
     checkInverse(t, setups);
     checkImportance(t, setups[0]);
+    checkDirectionDensity(t, *setups[0].cam, *setups[0].imp);
 }
 
 } // namespace

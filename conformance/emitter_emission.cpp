@@ -43,8 +43,8 @@ void checkEmission(Target& t, const Setup& s) {
     const std::uint64_t n = t.count(400000, 40000);
     const Point3f light = e.sampleDirect(Point3f(0.123f, 0.456f, 0.789f), Point2f(0.5f), SampledWavelengths::constant(550.f)).p;
     const float edge[] = {0.f, 1e-7f, 0.5f, OneMinusEpsilon};
-    std::uint64_t bad = 0;
-    std::string first;
+    std::uint64_t bad = 0, densities = 0, badDensity = 0;
+    std::string first, firstDensity;
     MeanVar flux;
     for (std::uint64_t i = 0; i < n; ++i) {
         Point2f uPos = uniform2(rng), uDir = uniform2(rng);
@@ -87,8 +87,24 @@ void checkEmission(Target& t, const Setup& s) {
             w = double(cie::toY(es.L, l)) * cosine / (double(es.pdfPosition) * double(es.pdfDirection));
         }
         if (i >= 256) flux.add(w);  // the corner inputs are not uniform draws
+        // pdfEmission() (bidirectional renderers' MIS) must give back the sample's densities.
+        float pdfPos = 0.f, pdfDir = 0.f;
+        if (why.empty() && lit && e.pdfEmission(o, es.n, d, pdfPos, pdfDir)) {
+            ++densities;
+            double err = std::max(relError(double(pdfPos), double(es.pdfPosition)),
+                                  relError(double(pdfDir), double(es.pdfDirection)));
+            if (!(err <= ValueTolerance) && badDensity++ == 0)
+                firstDensity = fmt::format("u = ({}, {}), ({}, {}): pdfEmission {} × {}, sampleEmission {} × {}", uPos.x,
+                                           uPos.y, uDir.x, uDir.y, pdfPos, pdfDir, es.pdfPosition, es.pdfDirection);
+        }
     }
     t.expect("emission" + s.at, bad == 0, fmt::format("{} bad of {}", bad, n), first);
+    if (densities > 0)
+        t.expect("emission densities" + s.at, badDensity == 0, fmt::format("{} of {} disagree", badDensity, densities),
+                 badDensity ? firstDensity : "pdfEmission() against sampleEmission()'s pdfs, relative tolerance");
+    else
+        t.info("emission densities" + s.at, "none compared",
+               "no lit sample (dark), or pdfEmission() not provided (infinite lights: bdpt does not start there)");
 
     const double power = e.power(), est = flux.mean, se = flux.stderror();
     const std::string figure = fmt::format("power() {:.5g}, estimate {:.5g} ± {:.2g}", power, est, se);

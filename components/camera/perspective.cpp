@@ -101,7 +101,7 @@ public:
     }
 
     /// generateRay's density of directions: uniform over the image plane, 1 / (A cos³θ).
-    float pdfDirection(const Vector3f& d) const override {
+    float pdfDirection(const Point3f&, const Vector3f& d) const override {
         Vector3f local = m_toLocal.vector(d);
         float len = length(local);
         if (!(local.z > 0.f) || !(len > 0.f)) return 0.f;

@@ -126,12 +126,16 @@ public:
     }
 
     /// Given the lens point, a direction is as likely as its point on the plane of focus,
-    /// uniform over that plane's window: 1 / (A cos³θ), as for a pinhole. (Whether the point
-    /// falls inside the window depends on the lens point, which is not known here.)
-    float pdfDirection(const Vector3f& d) const override {
+    /// uniform over that plane's window: 1 / (A cos³θ), as for a pinhole.
+    float pdfDirection(const Point3f& lens, const Vector3f& d) const override {
         Vector3f local = m_toLocal.vector(d);
         float len = length(local);
         if (!(local.z > 0.f) || !(len > 0.f)) return 0.f;
+        Point3f lensLocal = m_toLocal.point(lens);
+        // Where the ray meets the plane of focus, divided by the focus distance: on z = 1.
+        Vector3f focus = Vector3f(lensLocal.x, lensLocal.y, 0.f) + local * (m_focus / local.z);
+        Point2f pFilm;
+        if (!camera::filmPosition(Vector2f(focus.x, focus.y) / m_focus, m_filmSize, m_tanHalf, pFilm)) return 0.f;
         float cosTheta = local.z / len;
         return 1.f / (m_area * cosTheta * cosTheta * cosTheta);
     }

@@ -165,7 +165,8 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
     const auto* importance = query<ICameraImportance>(&camera);
-    if (!importance || !(importance->pdfDirection(camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
+    if (!importance || !(importance->pdfDirection(camera.toWorld().point(Point3f(0.f)),
+                                                  camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
         fail("{}: renderer 'bdpt' needs a camera with a density of directions (perspective or thinlens), not '{}'",
              scene.sourceFile, camera.typeName());
     if (!control.accumulate) film.prepare({"X", "Y", "Z"});

@@ -52,7 +52,7 @@ struct Context {
     float pdf(const Vertex& v, const Vertex* prev, const Vertex& next, const SampledWavelengths& lambda) const {
         Vector3f wn = normalize(next.p() - v.p());
         switch (v.type) {
-        case VertexType::Camera: return v.toArea(camera.pdfDirection(wn), next);
+        case VertexType::Camera: return v.toArea(camera.pdfDirection(v.p(), wn), next);
         case VertexType::Light: return pdfLight(v, next);
         case VertexType::Surface: break;
         }
@@ -142,7 +142,7 @@ inline void cameraSubpath(const Context& ctx, const Ray& ray, const SampledSpect
     Vector3f dLocal = ctx.cameraToLocal.vector(ray.d);
     float t0 = std::abs(dLocal.z) > 0.f ? -ctx.cameraToLocal.point(ray.o).z / dLocal.z : 0.f;
     path.push_back(Vertex::camera(ray.o + ray.d * t0, weight));
-    randomWalk(ctx, ray, weight, ctx.camera.pdfDirection(ray.d), std::size_t(ctx.maxDepth) + 1,
+    randomWalk(ctx, ray, weight, ctx.camera.pdfDirection(path[0].p(), ray.d), std::size_t(ctx.maxDepth) + 1,
                TransportMode::Radiance, sampler, lambda, path, &escape);
 }
 

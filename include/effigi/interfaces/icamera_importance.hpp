@@ -44,12 +44,14 @@ public:
     /// outside the field of view or the clip range.
     virtual bool sampleDirection(const Point3f& ref, const Point2f& u, CameraImportanceSample& out) const = 0;
 
-    /// Density per unit solid angle with which ICamera::generateRay, given the point on
-    /// the lens the ray starts from, produces the world direction d (unit): 1 / (A cos³θ)
-    /// for perspective and thin-lens cameras, 0 outside the field of view. Bidirectional
-    /// renderers need it for multiple importance sampling. The default (0) says the camera
-    /// has no such density (orthographic: its direction is a delta).
-    virtual float pdfDirection(const Vector3f& d) const {
+    /// Density per unit solid angle with which ICamera::generateRay, given that its ray
+    /// passes through the point `lens` of the lens (world space), produces the world
+    /// direction d (unit): 1 / (A cos³θ) for perspective and thin-lens cameras, 0 outside
+    /// the field of view. Bidirectional renderers need it for multiple importance
+    /// sampling. The default (0) says the camera has no such density (orthographic: its
+    /// direction is a delta).
+    virtual float pdfDirection(const Point3f& lens, const Vector3f& d) const {
+        (void)lens;
         (void)d;
         return 0.f;
     }
