@@ -8,6 +8,7 @@
 // - Every kind of light bdpt handles its own way: point and spot lights (delta: light
 //   subpaths start there, s = 0 impossible), a constant environment (camera-side only),
 //   with a thin-lens camera and a crop window (the light-tracing splats' scale).
+// - The per-strategy channels (strategies="true") sum to the image.
 // - A camera without a density of directions (orthographic) is a one-line error.
 #include "cornell_regions.hpp"
 #include "scene_text.hpp"
@@ -17,6 +18,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace effigi;
@@ -112,6 +114,36 @@ TEST_CASE("bdpt: delta lights, an environment, a thin lens and a crop window", "
                                       "value=\"32\"/><rfilter"}},
                         6, 0.03, 64, 32);
     }
+}
+
+TEST_CASE("bdpt: the strategy channels sum to the image", "[render][bdpt]") {
+    // max_depth 5: every strategy has a channel, so R, G, B are exactly their sums (up to
+    // float rounding of the per-sample sums: tolerance 1e-4 relative plus 1e-6).
+    auto scene = loadWithIntegrator(Cornell,
+                                    "<integrator type=\"bdpt\"><integer name=\"max_depth\" value=\"5\"/>"
+                                    "<boolean name=\"strategies\" value=\"true\"/></integrator>",
+                                    {{"res", "16"}, {"spp", "16"}});
+    RenderControl c;
+    c.progress = false;
+    scene->renderer().render(*scene, c);
+    Image img = scene->camera().film().develop();
+    REQUIRE(img.channels() == 3 + 3 * 19);  // 2 + 3 + 4 + 5 + 6 strategies of 1 … 5 segments, less (1, 1)
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            for (int ch = 0; ch < 3; ++ch) {
+                double sum = 0.0;
+                for (int k = 3 + ch; k < img.channels(); k += 3) sum += img.at(x, y, k);
+                INFO("pixel " << x << ", " << y << ", channel " << ch);
+                CHECK(std::abs(sum - img.at(x, y, ch)) <= 1e-4 * std::abs(img.at(x, y, ch)) + 1e-6);
+            }
+    // Light tracing (s2t1: one bounce seen through the camera connection) carries light.
+    const auto& names = img.channelNames;
+    auto at = std::find(names.begin(), names.end(), "s2t1.G");
+    REQUIRE(at != names.end());
+    double s2t1 = 0.0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) s2t1 += img.at(x, y, int(at - names.begin()));
+    CHECK(s2t1 > 0.0);
 }
 
 TEST_CASE("bdpt: an orthographic camera is a one-line error", "[render][bdpt]") {

@@ -17,7 +17,10 @@
 // (rendered pixels · spp).
 //
 // Parameters (Mitsuba 0.6 `bdpt` semantics): max_depth (−1 unbounded; 0 black; 1 lights
-// seen directly), rr_depth (Russian roulette from that many segments on), hide_emitters.
+// seen directly), rr_depth (Russian roulette from that many segments on), hide_emitters,
+// strategies (pbrt's visualize_strategies): also write each strategy's MIS-weighted
+// contribution, for paths of up to 5 segments, as linear sRGB film channels "s<s>t<t>.R/G/B"
+// (environment light counts as s = 0 when found, s = 1 when sampled); they sum to the image.
 // Needs a camera with a density of directions: perspective or thinlens.
 // Reference: E. Veach, PhD thesis, 1997, ch. 10; E. Veach, L. Guibas, "Bidirectional
 // Estimators for Light Transport", 1994; pbrt 3rd ed., §16.3.
@@ -31,11 +34,13 @@
 #include "effigi/interfaces/ifilter.hpp"
 #include "effigi/interfaces/irenderer.hpp"
 #include "effigi/render/tile_renderer.hpp"
+#include "effigi/spectral/colorspace.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -44,20 +49,54 @@ namespace {
 
 using namespace bdpt;
 
-/// One thread's sampler, blocks (camera-side estimate, light-tracing splats) and paths.
+/// One thread's sampler, blocks (camera-side estimate, light-tracing splats), paths and
+/// the film values of one sample (X, Y, Z, then the strategy channels).
 struct ThreadState {
     Ref<ISampler> sampler;
     ImageBlock camera, splats;
     TileStats stats;
     std::vector<Vertex> cameraPath, lightPath;
+    std::vector<float> values, splatValues;
+};
+
+/// The film channels of the strategies (s, t) of paths up to MaxSegments segments.
+class StrategyChannels {
+public:
+    static constexpr int MaxSegments = 5;
+    explicit StrategyChannels(bool on) {
+        for (int k = 1; on && k <= MaxSegments; ++k)
+            for (int s = 0; s <= k; ++s) {
+                int t = k + 1 - s;
+                if (s == 1 && t == 1) continue;  // not a strategy (light point joined to the lens)
+                m_slot[s][t] = 3 + int(m_names.size());
+                for (const char* c : {"R", "G", "B"}) m_names.push_back(fmt::format("s{}t{}.{}", s, t, c));
+            }
+    }
+    const std::vector<std::string>& names() const { return m_names; }
+    /// First channel of strategy (s, t), or −1 if it has none.
+    int slot(int s, int t) const { return s <= MaxSegments + 1 && t <= MaxSegments + 1 ? m_slot[s][t] : -1; }
+    /// Add the contribution L (at the final wavelengths) of (s, t) to values, as linear sRGB.
+    void add(float* values, int s, int t, const SampledSpectrum& L, const SampledWavelengths& lambda) const {
+        int c = values ? slot(s, t) : -1;
+        if (c < 0 || L.isBlack()) return;
+        Vector3f rgb = xyzToLinearSRGB(cie::toXYZ(L, lambda));
+        for (int i = 0; i < 3; ++i) values[c + i] += rgb[i];
+    }
+
+private:
+    std::vector<std::string> m_names;
+    int m_slot[MaxSegments + 2][MaxSegments + 2] = {};
 };
 
 class Bidirectional {
 public:
-    Bidirectional(Context ctx, const FilterTable& filter, Point2i cropOffset, bool hideEmitters)
-        : m_ctx(std::move(ctx)), m_splatter(filter, cropOffset), m_hideEmitters(hideEmitters) {}
+    Bidirectional(Context ctx, const FilterTable& filter, Point2i cropOffset, bool hideEmitters,
+                  const StrategyChannels& strategies)
+        : m_ctx(std::move(ctx)), m_splatter(filter, cropOffset), m_hideEmitters(hideEmitters),
+          m_strategies(strategies) {}
 
-    /// All strategies of one camera sample: the camera-side radiance is returned, the
+    /// All strategies of one camera sample: the camera-side radiance is returned (and
+    /// each strategy's share added to ts.values when strategy channels are on), the
     /// light-tracing strategies are splatted into ts's splat block.
     SampledSpectrum sample(FilmSample& fs, ThreadState& ts) const {
         ISampler& sampler = *ts.sampler;
@@ -66,7 +105,9 @@ public:
         Escape escape;
         cameraSubpath(m_ctx, fs.ray, fs.weight, sampler, fs.lambda, cam, escape);
         lightSubpath(m_ctx, sampler, fs.lambda, light);
-        SampledSpectrum L = environment(cam, escape, sampler, fs.lambda);
+        float* values = m_strategies.names().empty() ? nullptr : ts.values.data();
+        if (values) std::fill(ts.values.begin(), ts.values.end(), 0.f);
+        SampledSpectrum L = environment(cam, escape, sampler, fs.lambda, values);
         const int nCam = int(cam.size()), nLight = int(light.size());
         for (int t = 1; t <= nCam; ++t) {
             for (int s = 0; s <= nLight; ++s) {
@@ -74,18 +115,33 @@ public:
                 if (s == 0 && t == 2 && m_hideEmitters) continue;
                 Point2f pFilm;
                 SampledSpectrum Lpath = connect(m_ctx, light.data(), cam.data(), s, t, sampler, fs.lambda, pFilm);
-                if (t != 1) L += Lpath;
-                else if (!Lpath.isBlack()) m_splatter.splat(pFilm, Lpath, fs.lambda, ts.splats, ts.stats);
+                if (t != 1) {
+                    L += Lpath;
+                    m_strategies.add(values, s, t, Lpath, fs.lambda);
+                } else if (!Lpath.isBlack()) {
+                    splat(pFilm, Lpath, s, fs.lambda, ts);
+                }
             }
         }
         return L;
     }
 
 private:
+    /// A light-tracing contribution (t = 1), with its strategy channel when they are on.
+    void splat(const Point2f& pFilm, const SampledSpectrum& L, int s, const SampledWavelengths& lambda,
+               ThreadState& ts) const {
+        if (m_strategies.names().empty()) return m_splatter.splat(pFilm, L, lambda, ts.splats, ts.stats);
+        std::fill(ts.splatValues.begin(), ts.splatValues.end(), 0.f);
+        Vector3f xyz = cie::toXYZ(L, lambda);
+        std::copy(&xyz.x, &xyz.x + 3, ts.splatValues.begin());
+        m_strategies.add(ts.splatValues.data(), s, 1, L, lambda);
+        m_splatter.splat(pFilm, ts.splatValues.data(), ts.splats, ts.stats);
+    }
+
     /// Infinite emitters: found by the camera subpath leaving the scene, and sampled from
     /// each camera vertex; the two combined by the power heuristic (as in path).
     SampledSpectrum environment(const std::vector<Vertex>& cam, const Escape& escape, ISampler& sampler,
-                                const SampledWavelengths& lambda) const {
+                                const SampledWavelengths& lambda, float* values) const {
         const Scene& scene = m_ctx.scene;
         const std::vector<const IEmitter*>& envs = scene.environments();
         SampledSpectrum L(0.f);
@@ -96,7 +152,9 @@ private:
                 float w = escape.delta ? 1.f
                                        : mis::powerHeuristic(escape.pdfDir,
                                                              selEnv * env->pdfEnvironment(escape.ray.o, escape.ray.d));
-                L += escape.beta * env->evalEnvironment(escape.ray.d, lambda) * w;
+                SampledSpectrum Le = escape.beta * env->evalEnvironment(escape.ray.d, lambda) * w;
+                L += Le;
+                m_strategies.add(values, 0, escape.segments + 1, Le, lambda);
             }
         }
         for (std::size_t i = 1; i < cam.size() && int(i) + 1 <= m_ctx.maxDepth; ++i) {
@@ -116,7 +174,9 @@ private:
             float pdfLight = selEnv * es.pdf;
             float w = es.delta ? 1.f
                                : mis::powerHeuristic(pdfLight, v.si.bsdf->pdf(v.si, wo, wi, lambda, TransportMode::Radiance));
-            L += v.beta * f * es.L * tr * (w / pdfLight);
+            SampledSpectrum Le = v.beta * f * es.L * tr * (w / pdfLight);
+            L += Le;
+            m_strategies.add(values, 1, int(i) + 1, Le, lambda);
         }
         return L;
     }
@@ -124,6 +184,7 @@ private:
     Context m_ctx;
     FilmSplatter m_splatter;
     bool m_hideEmitters;
+    const StrategyChannels& m_strategies;
 };
 
 class BdptRenderer final : public Implements<IRenderer> {
@@ -135,6 +196,8 @@ public:
         s.integer("max_depth", -1, "Longest path in segments (-1: unbounded; 0: black; 1: emitters only)").atLeast(-1);
         s.integer("rr_depth", 5, "Segments after which Russian roulette may end subpaths").atLeast(1);
         s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
+        s.boolean("strategies", false,
+                  "Also write each strategy's weighted contribution (paths up to 5 segments) as channels s<s>t<t>.R/G/B");
         s.ignored("samples_per_pass", "effigi renders in passes of its own (see effigi render --spp)");
         s.ignored("timeout", "use effigi render --time for a time budget");
         s.ignored("lightImage", "the light-tracing strategies are always on");
@@ -144,12 +207,13 @@ public:
             s.addConformance({fmt::format("max_depth {}", d), {{"max_depth", d}}});
         s.addConformance({"rr_depth 1", {{"rr_depth", std::int64_t(1)}}});
         s.addConformance({"hide_emitters", {{"hide_emitters", true}}});
+        s.addConformance({"strategy channels", {{"strategies", true}}});
         return s;
     }
 
     explicit BdptRenderer(const Properties& p)
         : m_maxDepth(int(p.getInt("max_depth"))), m_rrDepth(int(p.getInt("rr_depth"))),
-          m_hideEmitters(p.getBool("hide_emitters")) {}
+          m_hideEmitters(p.getBool("hide_emitters")), m_strategies(p.getBool("strategies")) {}
 
     RenderStats render(const Scene& scene, const RenderControl& control) override;
 
@@ -159,6 +223,7 @@ private:
     static constexpr int UnboundedDepth = 1024;
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
+    StrategyChannels m_strategies;
 };
 
 RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& control) {
@@ -169,7 +234,9 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
                                                   camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
         fail("{}: renderer 'bdpt' needs a camera with a density of directions (perspective or thinlens), not '{}'",
              scene.sourceFile, camera.typeName());
-    if (!control.accumulate) film.prepare({"X", "Y", "Z"});
+    std::vector<std::string> channels = {"X", "Y", "Z"};
+    channels.insert(channels.end(), m_strategies.names().begin(), m_strategies.names().end());
+    if (!control.accumulate) film.prepare(channels);
     RenderStats stats;
     if (m_maxDepth == 0) return stats;
 
@@ -182,13 +249,14 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
         limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
                                                       std::size_t(control.threads));
     FilterTable filter(film.filter());
-    const Bidirectional tracer(std::move(ctx), filter, film.cropOffset(), m_hideEmitters);
+    const Bidirectional tracer(std::move(ctx), filter, film.cropOffset(), m_hideEmitters, m_strategies);
     const SampleRange range{control.sampleOffset, control.sampleCount ? control.sampleCount
                                                                       : std::uint64_t(camera.sampler().samplesPerPixel())};
     const Vector2i size = film.size();
     tbb::enumerable_thread_specific<ThreadState> threads([&] {
         return ThreadState{camera.sampler().clone(control.seed), film.createBlock(Point2i(0), size),
-                           film.createBlock(Point2i(0), size), {}, {}, {}};
+                           film.createBlock(Point2i(0), size), {}, {}, {},
+                           std::vector<float>(channels.size()), std::vector<float>(channels.size())};
     });
     ProgressBar progress("Rendering (bdpt)", std::uint64_t(size.x) * size.y * range.count, control.progress);
     auto start = std::chrono::steady_clock::now();
@@ -201,11 +269,12 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
                 ts.sampler->startSample(k);
                 FilmSample fs = sampleCamera(camera, *ts.sampler, {x, y});
                 Vector3f xyz = cie::toXYZ(tracer.sample(fs, ts), fs.lambda);
-                if (!isFinite(xyz)) {
+                std::copy(&xyz.x, &xyz.x + 3, ts.values.begin());
+                if (!std::all_of(ts.values.begin(), ts.values.end(), [](float v) { return std::isfinite(v); })) {
                     ++ts.stats.rejected;
-                    xyz = Vector3f(0.f);
+                    std::fill(ts.values.begin(), ts.values.end(), 0.f);
                 }
-                ts.camera.put(fs.pFilm, &xyz.x);
+                ts.camera.put(fs.pFilm, ts.values.data());
                 ++ts.stats.samples;
             }
         }
@@ -229,9 +298,9 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
     const double lightPaths = double(std::max<std::uint64_t>(stats.samples, 1));
     const float scale = float(double(full.x) * double(full.y) / lightPaths);
     std::vector<float>& data = total.data();
-    const std::size_t stride = std::size_t(total.stride()), channels = std::size_t(total.channels());
+    const std::size_t stride = std::size_t(total.stride()), n = std::size_t(total.channels());
     for (std::size_t i = 0; i < data.size(); i += stride)
-        for (std::size_t c = 0; c < channels; ++c) data[i + c] += splats[i + c] * data[i + channels] * scale;
+        for (std::size_t c = 0; c < n; ++c) data[i + c] += splats[i + c] * data[i + n] * scale;
     film.put(total);
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats.interrupted = control.stopRequested();

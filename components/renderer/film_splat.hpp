@@ -8,7 +8,9 @@
 #include "effigi/render/tile_renderer.hpp"
 #include "effigi/spectral/cie.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace effigi {
 
@@ -22,15 +24,27 @@ public:
     void splat(const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda, ImageBlock& block,
                TileStats& ts) const {
         Vector3f xyz = cie::toXYZ(L, lambda);
-        if (!isFinite(xyz)) {
-            ++ts.rejected;
-            return;
-        }
+        if (block.channels() == 3) return splat(pFilm, &xyz.x, block, ts);
+        thread_local std::vector<float> values;  // a block with more channels: zeros there
+        values.assign(std::size_t(block.channels()), 0.f);
+        std::copy(&xyz.x, &xyz.x + 3, values.begin());
+        splat(pFilm, values.data(), block, ts);
+    }
+
+    /// Put all block.channels() values (X, Y, Z first) at pFilm; `values` is scaled in
+    /// place by the footprint's normalisation.
+    void splat(const Point2f& pFilm, float* values, ImageBlock& block, TileStats& ts) const {
+        const int n = block.channels();
+        for (int c = 0; c < n; ++c)
+            if (!std::isfinite(values[c])) {
+                ++ts.rejected;
+                return;
+            }
         Point2f pos = pFilm - Point2f(m_offset);
         float norm = footprint(pos.x) * footprint(pos.y);
         if (!(norm > 0.f)) return;
-        xyz /= norm;
-        block.put(pos, &xyz.x);
+        for (int c = 0; c < n; ++c) values[c] /= norm;
+        block.put(pos, values);
     }
 
 private:
