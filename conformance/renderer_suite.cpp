@@ -19,7 +19,8 @@
 //  - wrappers (aov, moment) are checked through their first nested renderer; their own
 //    channels by renderer_channels.cpp.
 // The depth a renderer is limited to and whether it hides emitters come from its
-// max_depth and hide_emitters parameters (Mitsuba's convention; `direct` is max_depth 2).
+// max_depth and hide_emitters parameters (Mitsuba's convention); renderers that follow no
+// diffuse bounce (`direct`, `whitted`) are held to max_depth 2 at most: the scenes are diffuse.
 // All statistical checks are seeded from the run's seed and their names.
 #include "conformance/histogram.hpp"
 #include "conformance/renderer_channels.hpp"
@@ -48,7 +49,13 @@ const Declaration Unbiased[] = {
     {"path", "Monte Carlo path tracing; Russian roulette reweights the survivors (Veach 1997, ch. 9)"},
     {"direct", "MIS-weighted emitter and BSDF samples of direct lighting (Veach & Guibas 1995)"},
     {"ptracer", "light tracing with camera connections (Veach 1997, §4.A)"},
+    {"bdpt", "every join of a camera and a light subpath, MIS-weighted by the power heuristic (Veach 1997, ch. 10)"},
+    {"whitted", "emitter samples of direct light at the end of delta chains chosen by BSDF sampling (Whitted 1980); "
+                "unbiased for that transport, which on the suite's diffuse scenes is direct lighting"},
 };
+/// Renderers that follow no non-delta bounce (direct lighting, plus delta chains for
+/// whitted): on the suite's scenes, all diffuse, they compute max_depth 2 at most.
+const char* const DirectOnly[] = {"direct", "whitted"};
 /// Wrappers whose colour image is their first nested renderer's, sample by sample.
 const char* const Wrappers[] = {"aov", "moment"};
 
@@ -91,7 +98,10 @@ Plan planOf(Registry& reg, const std::string& component, const ParamList& config
     }
     if (auto d = paramOf(reg, name, params, "max_depth"); d && std::holds_alternative<std::int64_t>(*d))
         plan.semantics.depth = int(std::get<std::int64_t>(*d));
-    if (name == "direct") plan.semantics.depth = 2;
+    if (std::find(std::begin(DirectOnly), std::end(DirectOnly), name) != std::end(DirectOnly)) {
+        int& d = plan.semantics.depth;
+        if (d < 0 || d > 2) d = 2;
+    }
     if (auto h = paramOf(reg, name, params, "hide_emitters"); h && std::holds_alternative<bool>(*h))
         plan.semantics.hideEmitters = std::get<bool>(*h);
     for (const Declaration& d : Unbiased)
