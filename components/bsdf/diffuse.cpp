@@ -4,10 +4,21 @@
 // hemisphere above it: f(wo, wi) = ρ/π for wo and wi on the side of the shading
 // normal, zero otherwise. Like Mitsuba 3's `diffuse` it is ONE-SIDED: seen from below
 // the surface is black (wrap it in `twosided` to reflect on both sides).
-// Sampling is cosine-weighted (Malley's method), so f·cos/pdf = ρ exactly.
+//
+// Sampling: directions are drawn through a warp (issue 14, "warps in use").
+// - Default: the compile-time cosine warp, i.e. exactly the code the warp component
+//   `cosine_hemisphere` wraps (warp::squareToCosineHemisphere and its pdf, Malley's
+//   method), so f·cos/pdf = ρ exactly; tests/test_warps_in_use.cpp checks bit-exact
+//   equality with the component for many u.
+// - A nested `warp` (any IWarp with a Sphere domain, e.g. `uniform_hemisphere` or a
+//   plugin) replaces it: wi = warp.sample(u), pdf = warp.pdf(wi) in sample() and pdf().
+//   f is unchanged, so any warp whose support covers the upper hemisphere gives an
+//   unbiased (only noisier or less noisy) estimator. A direction with z ≤ 0 or a
+//   non-positive / non-finite density is no sample (zero contribution, never NaN).
 //
 // Parameters:
 //   reflectance  texture (reflectance spectrum, default 0.5)  albedo ρ in [0, 1]
+//   warp         nested warp (optional)  the direction sampler; default cosine-weighted
 //
 // Reference: J. H. Lambert, Photometria (1760); pbrt-v4 §9.2 for the sampling.
 #include "cosine_lobe.hpp"
@@ -15,7 +26,10 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
+#include "effigi/interfaces/iwarp.hpp"
 #include "effigi/math/warp_functions.hpp"
+
+#include <cmath>
 
 namespace effigi {
 namespace {
@@ -28,15 +42,25 @@ public:
         s.texture("reflectance", 0.5f, SpectrumKind::Reflectance,
                   "Albedo ρ (spectrum or texture); f = ρ/π above the surface")
             .range(0.0, 1.0);
+        s.child("warp", "warp",
+                "Direction sampler (a warp onto the sphere of directions); default: the code of "
+                "warp `cosine_hemisphere` (cosine-weighted), compiled in");
         s.addConformance({"default", {}});
         s.addConformance({"black", {{"reflectance", 0.0}}});
         s.addConformance({"white", {{"reflectance", 1.0}}});
         s.addConformance({"saturated rgb", {{"reflectance", RGBValue{{0.98f, 0.02f, 0.01f}}}}});
+        // No configuration with a nested warp here: it would be made with the schema and
+        // load a warp module whenever diffuse's schema is asked for (test_registry requires
+        // that to load diffuse alone). tests/test_warps_in_use.cpp checks nested warps.
         return s;
     }
 
     explicit Diffuse(const Properties& p)
-        : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)) {}
+        : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)), m_warp(p.get<IWarp>("warp")) {
+        if (m_warp && m_warp->domain().kind != WarpDomain::Kind::Sphere)
+            failAt(p.whereOf("warp"), "{}: the nested warp '{}' gives points of the plane, not directions",
+                   p.describe(), m_warp->typeName());
+    }
 
     std::uint32_t flags() const override { return BSDFReflection | BSDFDiffuse; }
 
@@ -49,10 +73,18 @@ public:
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float, const Point2f& u,
                                      SampledWavelengths& lambda, TransportMode) const override {
         if (!(wo.z > 0.f)) return std::nullopt;
-        Vector3f wi = warp::squareToCosineHemisphere(u);
-        float pdf = warp::squareToCosineHemispherePdf(wi);
-        // The rim of the disk maps to wi.z = 0, whose density is zero: no usable sample.
-        if (!(pdf > 0.f)) return std::nullopt;
+        Vector3f wi;
+        float pdf;
+        if (m_warp) {
+            wi = m_warp->sample(u);
+            pdf = m_warp->pdf(wi);
+        } else {
+            wi = warp::squareToCosineHemisphere(u);
+            pdf = warp::squareToCosineHemispherePdf(wi);
+        }
+        // Below or on the surface f = 0 (the rim of the disk maps to wi.z = 0, whose cosine
+        // density is zero): no usable sample, never a NaN.
+        if (!(wi.z > 0.f) || !(pdf > 0.f) || !std::isfinite(pdf)) return std::nullopt;
         BSDFSample bs;
         bs.f = m_reflectance->eval(si, lambda) * InvPi;
         bs.wi = wi;
@@ -63,7 +95,10 @@ public:
 
     float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
-        return oneSidedCosinePdf(wo, wi);
+        if (!m_warp) return oneSidedCosinePdf(wo, wi);
+        if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
+        float pdf = m_warp->pdf(wi);
+        return std::isfinite(pdf) && pdf > 0.f ? pdf : 0.f;
     }
 
     /// The hemispherical reflectance of a Lambertian surface is ρ for every wo.
@@ -73,6 +108,7 @@ public:
 
 private:
     Ref<ITexture> m_reflectance;
+    Ref<IWarp> m_warp;  // null: the compiled-in cosine warp
 };
 
 } // namespace

@@ -5,7 +5,13 @@
 // lighting asks the shape for a point sampled by solid angle as seen from the shaded
 // point (IShape::sampleDirection), so shapes with a better strategy than area
 // sampling (spheres: the visible cone) give less noise for free. Emission sampling
-// picks a point by area and a cosine-weighted direction about the normal.
+// (light paths: ptracer, bdpt, photon maps) picks a point by area and a direction about
+// the normal through a warp: by default the compile-time cosine warp, i.e. exactly the
+// code the warp component `cosine_hemisphere` wraps (tests/test_warps_in_use.cpp checks
+// that bit for bit); a nested `warp` (any IWarp onto the sphere of directions, e.g.
+// `uniform_hemisphere` or a plugin) replaces it in sampleEmission() and pdfEmission().
+// The radiance is unchanged, so any warp covering the hemisphere is unbiased; a
+// direction with z ≤ 0 about the normal is no sample (zero pdf, zero L).
 //
 // Parameters:
 //   radiance   texture (illuminant spectrum, default 1)  emitted radiance [W m^-2 sr^-1]
@@ -13,12 +19,14 @@
 //   luminance  float ≥ 0 (optional)   scale a constant radiance to this luminance Y
 //   power      float ≥ 0 (optional)   scale a constant radiance to this radiant flux [W],
 //              Φ = π · A · ∫ L dλ over 360–830 nm (excludes luminance)
+//   warp       nested warp (optional)  emission direction sampler; default cosine-weighted
 //
 // Reference: pbrt-v4 §12.2 (diffuse area lights); Glassner's Spectrum (any geometry emits).
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/interfaces/ishape.hpp"
 #include "effigi/interfaces/itexture.hpp"
+#include "effigi/interfaces/iwarp.hpp"
 #include "effigi/math/warp_functions.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
@@ -40,6 +48,9 @@ public:
         // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
         // rule, which changes noise only, never the expected image.
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
+        s.child("warp", "warp",
+                "Emission direction sampler (a warp onto the sphere of directions, about the normal); "
+                "default: the code of warp `cosine_hemisphere`, compiled in");
         // Cases of the emitter conformance suite (conformance/emitter_suite.cpp), which
         // nests the light in a square and a sphere; extremes included.
         s.addConformance({"default", {}});
@@ -47,11 +58,17 @@ public:
         s.addConformance({"huge", {{"radiance", 1e6}}});
         s.addConformance({"dark", {{"radiance", 0.0}}});
         s.addConformance({"power", {{"power", 10.0}}});
+        // A nested warp is checked in tests/test_warps_in_use.cpp, not here: a configuration
+        // holding one would load the warp module whenever this schema is asked for.
         return s;
     }
 
     explicit AreaEmitter(const Properties& p)
-        : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true, "radiance") {
+        : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true, "radiance"),
+          m_warp(p.get<IWarp>("warp")) {
+        if (m_warp && m_warp->domain().kind != WarpDomain::Kind::Sphere)
+            failAt(p.whereOf("warp"), "{}: the nested warp '{}' gives points of the plane, not directions",
+                   p.describe(), m_warp->typeName());
         if (m_emission.mode() != EmissionScale::Mode::Factor && !m_radiance->isConstant())
             failAt(p.whereOf(m_emission.mode() == EmissionScale::Mode::Power ? "power" : "luminance"),
                    "{}: 'luminance' and 'power' need a constant radiance, not a texture", p.describe());
@@ -111,25 +128,25 @@ public:
         EmissionSample es;
         if (!m_shape) return es;
         PositionSample ps = m_shape->samplePosition(uPos);
-        Vector3f local = warp::squareToCosineHemisphere(uDir);
+        Vector3f local = m_warp ? m_warp->sample(uDir) : warp::squareToCosineHemisphere(uDir);
         Frame frame(ps.n);
         Vector3f d = frame.toWorld(local);
         es.ray = Ray{offsetRayOrigin(ps.p, ps.n, d), d, Infinity};
         es.n = ps.n;
         es.pdfPosition = ps.pdf;
-        es.pdfDirection = warp::squareToCosineHemispherePdf(local);
+        es.pdfDirection = m_warp ? directionPdf(local) : warp::squareToCosineHemispherePdf(local);
         if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f)) return es;
         es.L = radianceAt(ps, d, lambda);
         return es;
     }
 
     /// Positions uniform by area (IShape::samplePosition), directions cosine-weighted
-    /// about the front side's normal n.
+    /// about the front side's normal n (or drawn by the nested warp in the frame of n).
     bool pdfEmission(const Point3f&, const Normal3f& n, const Vector3f& d, float& pdfPosition,
                      float& pdfDirection) const override {
         float area = m_shape ? m_shape->area() : 0.f;
         pdfPosition = area > 0.f ? 1.f / area : 0.f;
-        pdfDirection = std::max(dot(n, d), 0.f) * InvPi;
+        pdfDirection = m_warp ? directionPdf(Frame(n).toLocal(d)) : std::max(dot(n, d), 0.f) * InvPi;
         return true;
     }
 
@@ -138,6 +155,14 @@ public:
 
 private:
     std::string name() const { return typeName().empty() ? std::string("emitter 'area'") : typeName(); }
+
+    /// The nested warp's density of a direction in the normal's frame: zero at or below
+    /// the surface, and wherever it is not a finite positive number.
+    float directionPdf(const Vector3f& local) const {
+        if (!(local.z > 0.f)) return 0.f;
+        float pdf = m_warp->pdf(local);
+        return std::isfinite(pdf) && pdf > 0.f ? pdf : 0.f;
+    }
 
     /// The unscaled radiance as a function of wavelength (constant textures only).
     std::function<float(float)> radiance() const {
@@ -171,6 +196,7 @@ private:
     float m_scale = 1.f;  // scale · luminance/power normalisation
     float m_luminance = 0.f;
     bool m_constant = false;  // the radiance is the same everywhere
+    Ref<IWarp> m_warp;        // null: the compiled-in cosine warp
 };
 
 } // namespace
