@@ -24,9 +24,8 @@
 // Needs a camera with a density of directions: perspective or thinlens.
 // Reference: E. Veach, PhD thesis, 1997, ch. 10; E. Veach, L. Guibas, "Bidirectional
 // Estimators for Light Transport", 1994; pbrt 3rd ed., §16.3.
-#include "bdpt_connect.hpp"
+#include "bdpt_sample.hpp"
 #include "film_splat.hpp"
-#include "mis.hpp"
 
 #include "effigi/core/progress.hpp"
 #include "effigi/core/registry.hpp"
@@ -55,7 +54,7 @@ struct ThreadState {
     Ref<ISampler> sampler;
     ImageBlock camera, splats;
     TileStats stats;
-    std::vector<Vertex> cameraPath, lightPath;
+    bdpt::Subpaths paths;
     std::vector<float> values, splatValues;
 };
 
@@ -95,34 +94,20 @@ public:
         : m_ctx(std::move(ctx)), m_splatter(filter, cropOffset), m_hideEmitters(hideEmitters),
           m_strategies(strategies) {}
 
-    /// All strategies of one camera sample: the camera-side radiance is returned (and
-    /// each strategy's share added to ts.values when strategy channels are on), the
-    /// light-tracing strategies are splatted into ts's splat block.
+    /// All strategies of one camera sample (bdpt_sample.hpp): the camera-side radiance is
+    /// returned (and each strategy's share added to ts.values when strategy channels are
+    /// on), the light-tracing strategies are splatted into ts's splat block.
     SampledSpectrum sample(FilmSample& fs, ThreadState& ts) const {
-        ISampler& sampler = *ts.sampler;
-        std::vector<Vertex>& cam = ts.cameraPath;
-        std::vector<Vertex>& light = ts.lightPath;
-        Escape escape;
-        cameraSubpath(m_ctx, fs.ray, fs.weight, sampler, fs.lambda, cam, escape);
-        lightSubpath(m_ctx, sampler, fs.lambda, light);
         float* values = m_strategies.names().empty() ? nullptr : ts.values.data();
         if (values) std::fill(ts.values.begin(), ts.values.end(), 0.f);
-        SampledSpectrum L = environment(cam, escape, sampler, fs.lambda, values);
-        const int nCam = int(cam.size()), nLight = int(light.size());
-        for (int t = 1; t <= nCam; ++t) {
-            for (int s = 0; s <= nLight; ++s) {
-                if (s + t < 2 || (s == 1 && t == 1) || s + t - 1 > m_ctx.maxDepth) continue;
-                if (s == 0 && t == 2 && m_hideEmitters) continue;
-                Point2f pFilm;
-                SampledSpectrum Lpath = connect(m_ctx, light.data(), cam.data(), s, t, sampler, fs.lambda, pFilm);
-                if (t != 1) {
-                    L += Lpath;
-                    m_strategies.add(values, s, t, Lpath, fs.lambda);
-                } else if (!Lpath.isBlack()) {
-                    splat(pFilm, Lpath, s, fs.lambda, ts);
-                }
-            }
-        }
+        SampledSpectrum L(0.f);
+        bdpt::sample(
+            m_ctx, m_hideEmitters, fs.ray, fs.weight, *ts.sampler, fs.lambda, ts.paths, [](int) {},
+            [&](int s, int t, const SampledSpectrum& c) {
+                L += c;
+                m_strategies.add(values, s, t, c, fs.lambda);
+            },
+            [&](int s, const SampledSpectrum& c, const Point2f& pFilm) { splat(pFilm, c, s, fs.lambda, ts); });
         return L;
     }
 
@@ -136,49 +121,6 @@ private:
         std::copy(&xyz.x, &xyz.x + 3, ts.splatValues.begin());
         m_strategies.add(ts.splatValues.data(), s, 1, L, lambda);
         m_splatter.splat(pFilm, ts.splatValues.data(), ts.splats, ts.stats);
-    }
-
-    /// Infinite emitters: found by the camera subpath leaving the scene, and sampled from
-    /// each camera vertex; the two combined by the power heuristic (as in path).
-    SampledSpectrum environment(const std::vector<Vertex>& cam, const Escape& escape, ISampler& sampler,
-                                const SampledWavelengths& lambda, float* values) const {
-        const Scene& scene = m_ctx.scene;
-        const std::vector<const IEmitter*>& envs = scene.environments();
-        SampledSpectrum L(0.f);
-        if (envs.empty()) return L;
-        const float selEnv = 1.f / float(envs.size());
-        if (!escape.beta.isBlack() && escape.segments <= m_ctx.maxDepth && !(escape.segments == 1 && m_hideEmitters)) {
-            for (const IEmitter* env : envs) {
-                float w = escape.delta ? 1.f
-                                       : mis::powerHeuristic(escape.pdfDir,
-                                                             selEnv * env->pdfEnvironment(escape.ray.o, escape.ray.d));
-                SampledSpectrum Le = escape.beta * env->evalEnvironment(escape.ray.d, lambda) * w;
-                L += Le;
-                m_strategies.add(values, 0, escape.segments + 1, Le, lambda);
-            }
-        }
-        for (std::size_t i = 1; i < cam.size() && int(i) + 1 <= m_ctx.maxDepth; ++i) {
-            const Vertex& v = cam[i];
-            float uSel = sampler.get1D();
-            Point2f u = sampler.get2D();
-            if (!v.connectible()) continue;
-            const IEmitter* env = envs[std::min(std::size_t(uSel * float(envs.size())), envs.size() - 1)];
-            EmitterSample es = env->sampleDirect(v.p(), u, lambda);
-            if (!(es.pdf > 0.f) || es.L.isBlack()) continue;
-            const Vector3f wo = v.si.toLocal(v.si.wo), wi = v.si.toLocal(es.wi);
-            SampledSpectrum f = v.si.bsdf->f(v.si, wo, wi, lambda, TransportMode::Radiance) * std::abs(wi.z);
-            if (f.isBlack()) continue;
-            Ray shadow = v.si.spawnRay(es.wi);
-            SampledSpectrum tr = scene.hasNullBSDFs() ? scene.transmittance(shadow, lambda)
-                                                      : SampledSpectrum(scene.occluded(shadow) ? 0.f : 1.f);
-            float pdfLight = selEnv * es.pdf;
-            float w = es.delta ? 1.f
-                               : mis::powerHeuristic(pdfLight, v.si.bsdf->pdf(v.si, wo, wi, lambda, TransportMode::Radiance));
-            SampledSpectrum Le = v.beta * f * es.L * tr * (w / pdfLight);
-            L += Le;
-            m_strategies.add(values, 1, int(i) + 1, Le, lambda);
-        }
-        return L;
     }
 
     Context m_ctx;
@@ -255,7 +197,7 @@ RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& contro
     const Vector2i size = film.size();
     tbb::enumerable_thread_specific<ThreadState> threads([&] {
         return ThreadState{camera.sampler().clone(control.seed), film.createBlock(Point2i(0), size),
-                           film.createBlock(Point2i(0), size), {}, {}, {},
+                           film.createBlock(Point2i(0), size), {}, {},
                            std::vector<float>(channels.size()), std::vector<float>(channels.size())};
     });
     ProgressBar progress("Rendering (bdpt)", std::uint64_t(size.x) * size.y * range.count, control.progress);
