@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Every renderer on the Cornell box against the Mitsuba 3 reference, in one table (issue 13).
 
-Renders scenes/cornell-box/{scene,lighttracer,photonmap,sppm,irradiancecache}.xml at 256²
+Renders scenes/cornell-box/{scene,lighttracer,photonmap,sppm,irradiancecache,pssmlt}.xml at 256²
 with the settings below and prints, per renderer, the image mean and each wall's mean
 (regions of tests/data/cornell/regions.txt) as a difference from the 2048-spp Mitsuba 3
 reference (tests/data/cornell/mitsuba-reference.exr), with render time and peak memory.
@@ -26,6 +26,7 @@ RUNS = [
     ("photonmap, 1M photons", "photonmap.xml", {"spp": 64, "global_photons": 1000000}, 3),
     ("sppm", "sppm.xml", {"spp": 256}, 3),
     ("irradiancecache", "irradiancecache.xml", {"spp": 16}, 5),
+    ("pssmlt", "pssmlt.xml", {"spp": 256}, 3),  # spp = mutations per pixel
 ]
 
 

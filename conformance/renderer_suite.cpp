@@ -49,6 +49,7 @@ const Declaration Unbiased[] = {
     {"path", "Monte Carlo path tracing; Russian roulette reweights the survivors (Veach 1997, ch. 9)"},
     {"direct", "MIS-weighted emitter and BSDF samples of direct lighting (Veach & Guibas 1995)"},
     {"ptracer", "light tracing with camera connections (Veach 1997, §4.A)"},
+    {"pssmlt", "Kelemen's expected-value splatting from bootstrap-resampled starts (Kelemen et al. 2002)"},
     {"bdpt", "every join of a camera and a light subpath, MIS-weighted by the power heuristic (Veach 1997, ch. 10)"},
     {"whitted", "emitter samples of direct light at the end of delta chains chosen by BSDF sampling (Whitted 1980); "
                 "unbiased for that transport, which on the suite's diffuse scenes is direct lighting"},

@@ -160,9 +160,6 @@ public:
     RenderStats render(const Scene& scene, const RenderControl& control) override;
 
 private:
-    /// Unbounded paths (max_depth −1) still end by Russian roulette; this caps the
-    /// vertex arrays of pathological scenes (two facing perfect mirrors).
-    static constexpr int UnboundedDepth = 1024;
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
     StrategyChannels m_strategies;
@@ -171,21 +168,13 @@ private:
 RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& control) {
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
-    const auto* importance = query<ICameraImportance>(&camera);
-    if (!importance || !(importance->pdfDirection(camera.toWorld().point(Point3f(0.f)),
-                                                  camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
-        fail("{}: renderer 'bdpt' needs a camera with a density of directions (perspective or thinlens), not '{}'",
-             scene.sourceFile, camera.typeName());
+    Context ctx = makeContext(scene, m_maxDepth, m_rrDepth, "renderer 'bdpt'");
     std::vector<std::string> channels = {"X", "Y", "Z"};
     channels.insert(channels.end(), m_strategies.names().begin(), m_strategies.names().end());
     if (!control.accumulate) film.prepare(channels);
     RenderStats stats;
     if (m_maxDepth == 0) return stats;
 
-    Context ctx{scene, *importance, camera.toWorld().inverse(), {}, m_maxDepth < 0 ? UnboundedDepth : m_maxDepth,
-                m_rrDepth};
-    for (const IEmitter* e : scene.emitters())
-        if (!e->isInfinite()) ctx.lights.push_back(e);
     std::unique_ptr<tbb::global_control> limit;
     if (control.threads > 0)
         limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,

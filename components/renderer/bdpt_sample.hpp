@@ -11,9 +11,29 @@
 #include "bdpt_connect.hpp"
 #include "mis.hpp"
 
+#include "effigi/core/error.hpp"
+
 #include <vector>
 
 namespace effigi::bdpt {
+
+/// The strategies' context for a scene: its camera's importance (an error naming `who`
+/// for cameras without a density of directions, e.g. orthographic) and the finite
+/// emitters light subpaths start from. max_depth < 0 (unbounded) still ends by Russian
+/// roulette; UnboundedDepth caps the vertex arrays of pathological scenes (facing mirrors).
+inline Context makeContext(const Scene& scene, int maxDepth, int rrDepth, const char* who) {
+    constexpr int UnboundedDepth = 1024;
+    ICamera& camera = scene.camera();
+    const auto* importance = query<ICameraImportance>(&camera);
+    if (!importance || !(importance->pdfDirection(camera.toWorld().point(Point3f(0.f)),
+                                                  camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
+        fail("{}: {} needs a camera with a density of directions (perspective or thinlens), not '{}'",
+             scene.sourceFile, who, camera.typeName());
+    Context ctx{scene, *importance, camera.toWorld().inverse(), {}, maxDepth < 0 ? UnboundedDepth : maxDepth, rrDepth};
+    for (const IEmitter* e : scene.emitters())
+        if (!e->isInfinite()) ctx.lights.push_back(e);
+    return ctx;
+}
 
 /// Per-thread storage of the two subpaths.
 struct Subpaths {

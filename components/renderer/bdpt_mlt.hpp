@@ -1,0 +1,67 @@
+#pragma once
+// The bidirectional inner estimator of renderer `pssmlt` (its `technique` "bdpt"):
+// every strategy of bidirectional path tracing (bdpt_sample.hpp) evaluated on a point of
+// primary sample space, the camera subpath read from stream 0, the light subpath from
+// stream 1 and the connections from stream 2, so that a mutation of one subpath leaves the
+// other's coordinates where they were (Kelemen et al. 2002 §5; pbrt-v3 §16.4.4).
+// The camera-side strategies give one contribution at the film position drawn; each
+// light-tracing strategy (t = 1) one where it lands, scaled from bdpt's convention
+// (importance normalised over the full film) to MLTSplat's (pixel = P · E[splats], P the
+// crop window's pixels): by (full-film pixels) / P.
+#include "bdpt_sample.hpp"
+#include "mlt_estimator.hpp"
+
+#include <vector>
+
+namespace effigi {
+
+class BdptMLTEstimator final : public MLTEstimator {
+public:
+    BdptMLTEstimator(const Scene& scene, int maxDepth, int rrDepth, bool hideEmitters, int minLength)
+        : m_ctx(bdpt::makeContext(scene, maxDepth, rrDepth, "renderer 'pssmlt' with technique 'bdpt'")),
+          m_camera(scene.camera()), m_hideEmitters(hideEmitters), m_minLength(minLength),
+          m_size(scene.camera().film().size()), m_offset(scene.camera().film().cropOffset()) {
+        const Vector2i full = scene.camera().film().fullSize();
+        m_splatScale = float(double(full.x) * double(full.y) / (double(m_size.x) * double(m_size.y)));
+    }
+
+    int streamCount() const override { return 3; }
+
+    void evaluate(ISampler& sampler, std::vector<MLTSplat>& splats) const override {
+        // Per-thread storage: evaluate() is called from every chain's thread.
+        thread_local bdpt::Subpaths paths;
+        thread_local std::vector<std::pair<Point2f, SampledSpectrum>> lightTraced;
+        lightTraced.clear();
+        mltStartStream(sampler, 0);
+        const Point2f u = sampler.get2D();
+        const Point2f pFilm(u.x * float(m_size.x), u.y * float(m_size.y));
+        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
+        SampledSpectrum weight(1.f);
+        const Ray ray = m_camera.generateRay({pFilm + m_offset, sampler.get2D(), 0.f}, lambda, weight);
+        if (weight.isBlack()) return;
+        SampledSpectrum L(0.f);
+        // A strategy (s, t) samples paths of s + t − 1 segments.
+        bdpt::sample(
+            m_ctx, m_hideEmitters, ray, weight, sampler, lambda, paths, [&](int k) { mltStartStream(sampler, k); },
+            [&](int s, int t, const SampledSpectrum& c) {
+                if (s + t - 1 >= m_minLength) L += c;
+            },
+            [&](int s, const SampledSpectrum& c, const Point2f& pFull) {
+                if (s >= m_minLength) lightTraced.emplace_back(pFull - m_offset, c);
+            });
+        // The wavelengths are final only now (dispersion may end the secondary ones).
+        if (!L.isBlack()) splats.push_back({pFilm, cie::toXYZ(L, lambda)});
+        for (const auto& [p, c] : lightTraced) splats.push_back({p, cie::toXYZ(c, lambda) * m_splatScale});
+    }
+
+private:
+    bdpt::Context m_ctx;
+    const ICamera& m_camera;
+    bool m_hideEmitters;
+    int m_minLength;
+    Vector2i m_size;
+    Point2f m_offset;
+    float m_splatScale = 1.f;
+};
+
+} // namespace effigi
