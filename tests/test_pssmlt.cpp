@@ -349,7 +349,7 @@ TEST_CASE("pssmlt: a stop request before the start leaves a finite image", "[pss
 
 TEST_CASE("pssmlt: bad parameters are one-line errors naming file:line", "[pssmlt][errors]") {
     for (const std::string param :
-         {R"(<string name="technique" value="bdpt"/>)", R"(<integer name="direct_samples" value="0"/>)",
+         {R"(<string name="technique" value="mlt"/>)", R"(<integer name="direct_samples" value="0"/>)",
           R"(<float name="sigma" value="0"/>)", R"(<float name="large_step_prob" value="1.5"/>)",
           R"(<integer name="bootstrap_samples" value="1"/>)", R"(<integer name="chains" value="0"/>)"}) {
         const std::string msg = errorOf([&] {
