@@ -78,11 +78,18 @@ public:
     /// sRGB. A sample with any NaN/Inf channel is kept off the film (zero) and counted.
     Vector3f put(ImageBlock& block, const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda,
                  TileStats& stats);
+    /// put() of a sample the integrator weighs by q (IWeightedSampler): into a block with
+    /// one channel more than the film's, the values times q and, last, q itself.
+    Vector3f put(ImageBlock& block, const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda,
+                 TileStats& stats, float q);
 
 private:
+    Vector3f splat(ImageBlock& block, const Point2f& pFilm, const SampledSpectrum& L, const SampledWavelengths& lambda,
+                   TileStats& stats, const float* q);
+
     const SpectralBinning& m_bins;
     std::size_t m_binCount;
-    std::vector<float> m_values;
+    std::vector<float> m_values;  // the film's channels, then one slot for the weight q
 };
 
 /// renderTiles for renderers that average independent camera samples into X, Y, Z: per
