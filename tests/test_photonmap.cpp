@@ -57,26 +57,6 @@ Image render(Scene& scene, std::uint64_t seed = 1) {
     return scene.camera().film().develop();
 }
 
-/// Mitsuba 3's 256² reference box-filtered down to res² (res divides 256).
-Image reference(int res) {
-    auto in = OIIO::ImageInput::open(EFFIGI_SOURCE_DIR "/tests/data/cornell/mitsuba-reference.exr");
-    REQUIRE(in);
-    const auto& spec = in->spec();
-    REQUIRE(spec.width == 256);
-    std::vector<float> px(std::size_t(spec.width) * spec.height * spec.nchannels);
-    REQUIRE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
-    const int f = 256 / res;
-    Image img;
-    img.width = img.height = res;
-    img.channelNames = {"R", "G", "B"};
-    img.pixels.assign(std::size_t(res) * res * 3, 0.f);
-    for (int y = 0; y < 256; ++y)
-        for (int x = 0; x < 256; ++x)
-            for (int c = 0; c < 3; ++c)
-                img.pixels[(std::size_t(y / f) * res + x / f) * 3 + c] +=
-                    px[(std::size_t(y) * 256 + x) * spec.nchannels + c] / float(f * f);
-    return img;
-}
 
 bool allFinite(const Image& img) {
     for (float v : img.pixels)
@@ -95,7 +75,7 @@ TEST_CASE("photonmap: the Cornell box agrees with the path-traced reference", "[
     // which is shared by all pixels. Tolerances: bias + ~3 seed-to-seed standard
     // deviations, 4 % for the image, 12 % for the ceiling, 6 % for the other walls.
     auto scene = cornell(photonmap(""), {{"res", "64"}, {"spp", "16"}});
-    Image ours = render(*scene), ref = reference(64);
+    Image ours = render(*scene), ref = cornellReference(64);
     const std::vector<CornellRegion> regions = cornellRegions();
     CHECK(regions.size() >= 7);
     for (const CornellRegion& r : regions) {
