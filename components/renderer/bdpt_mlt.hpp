@@ -20,9 +20,9 @@ public:
     BdptMLTEstimator(const Scene& scene, int maxDepth, int rrDepth, bool hideEmitters, int minLength)
         : m_ctx(bdpt::makeContext(scene, maxDepth, rrDepth, "renderer 'pssmlt' with technique 'bdpt'")),
           m_camera(scene.camera()), m_hideEmitters(hideEmitters), m_minLength(minLength),
-          m_size(scene.camera().film().size()), m_offset(scene.camera().film().cropOffset()) {
-        const Vector2i full = scene.camera().film().fullSize();
-        m_splatScale = float(double(full.x) * double(full.y) / (double(m_size.x) * double(m_size.y)));
+          m_offset(scene.camera().film().cropOffset()) {
+        const Vector2i full = scene.camera().film().fullSize(), size = scene.camera().film().size();
+        m_splatScale = float(double(full.x) * double(full.y) / (double(size.x) * double(size.y)));
     }
 
     int streamCount() const override { return 3; }
@@ -32,17 +32,13 @@ public:
         thread_local bdpt::Subpaths paths;
         thread_local std::vector<std::pair<Point2f, SampledSpectrum>> lightTraced;
         lightTraced.clear();
-        mltStartStream(sampler, 0);
-        const Point2f u = sampler.get2D();
-        const Point2f pFilm(u.x * float(m_size.x), u.y * float(m_size.y));
-        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-        SampledSpectrum weight(1.f);
-        const Ray ray = m_camera.generateRay({pFilm + m_offset, sampler.get2D(), 0.f}, lambda, weight);
-        if (weight.isBlack()) return;
+        MLTCameraSample cs = mltCameraSample(m_camera, sampler);
+        if (cs.weight.isBlack()) return;
+        SampledWavelengths& lambda = cs.lambda;
         SampledSpectrum L(0.f);
         // A strategy (s, t) samples paths of s + t − 1 segments.
         bdpt::sample(
-            m_ctx, m_hideEmitters, ray, weight, sampler, lambda, paths, [&](int k) { mltStartStream(sampler, k); },
+            m_ctx, m_hideEmitters, cs.ray, cs.weight, sampler, lambda, paths, [&](int k) { mltStartStream(sampler, k); },
             [&](int s, int t, const SampledSpectrum& c) {
                 if (s + t - 1 >= m_minLength) L += c;
             },
@@ -50,7 +46,7 @@ public:
                 if (s >= m_minLength) lightTraced.emplace_back(pFull - m_offset, c);
             });
         // The wavelengths are final only now (dispersion may end the secondary ones).
-        if (!L.isBlack()) splats.push_back({pFilm, cie::toXYZ(L, lambda)});
+        if (!L.isBlack()) splats.push_back({cs.pFilm, cie::toXYZ(L, lambda)});
         for (const auto& [p, c] : lightTraced) splats.push_back({p, cie::toXYZ(c, lambda) * m_splatScale});
     }
 
@@ -59,7 +55,6 @@ private:
     const ICamera& m_camera;
     bool m_hideEmitters;
     int m_minLength;
-    Vector2i m_size;
     Point2f m_offset;
     float m_splatScale = 1.f;
 };

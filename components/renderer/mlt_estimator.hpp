@@ -49,6 +49,27 @@ inline float mltTarget(const std::vector<MLTSplat>& splats) {
     return f;
 }
 
+/// The start of every estimator's point, on stream 0: a film position uniform over the
+/// crop window (crop frame; first, so a small step moves it by about sigma of the film's
+/// width), hero wavelengths, the lens, and the camera ray they give.
+struct MLTCameraSample {
+    Point2f pFilm;
+    SampledWavelengths lambda;
+    SampledSpectrum weight{1.f};
+    Ray ray;
+};
+inline MLTCameraSample mltCameraSample(const ICamera& camera, ISampler& sampler) {
+    mltStartStream(sampler, 0);
+    const Vector2i size = camera.film().size();
+    const Point2f u = sampler.get2D();
+    MLTCameraSample cs;
+    cs.pFilm = Point2f(u.x * float(size.x), u.y * float(size.y));
+    cs.lambda = SampledWavelengths::sampleVisible(sampler.get1D());
+    cs.ray = camera.generateRay({cs.pFilm + Point2f(camera.film().cropOffset()), sampler.get2D(), 0.f}, cs.lambda,
+                                cs.weight);
+    return cs;
+}
+
 class MLTEstimator {
 public:
     virtual ~MLTEstimator() = default;
@@ -70,17 +91,15 @@ class PathMLTEstimator final : public MLTEstimator {
 public:
     PathMLTEstimator(const Scene& scene, int maxDepth, int rrDepth, bool hideEmitters, int minLength = 1)
         : m_scene(scene), m_camera(scene.camera()), m_path(scene, maxDepth, rrDepth, hideEmitters),
-          m_minLength(minLength), m_size(scene.camera().film().size()),
-          m_offset(scene.camera().film().cropOffset()) {}
+          m_minLength(minLength) {}
 
     void evaluate(ISampler& sampler, std::vector<MLTSplat>& splats) const override {
-        mltStartStream(sampler, 0);
-        const Point2f u = sampler.get2D();
-        const Point2f pFilm(u.x * float(m_size.x), u.y * float(m_size.y));
-        SampledWavelengths lambda = SampledWavelengths::sampleVisible(sampler.get1D());
-        SampledSpectrum weight(1.f);
-        const Ray ray = m_camera.generateRay({pFilm + m_offset, sampler.get2D(), 0.f}, lambda, weight);
-        if (weight.isBlack()) return;
+        MLTCameraSample cs = mltCameraSample(m_camera, sampler);
+        if (cs.weight.isBlack()) return;
+        const Ray& ray = cs.ray;
+        const Point2f& pFilm = cs.pFilm;
+        SampledWavelengths& lambda = cs.lambda;
+        const SampledSpectrum& weight = cs.weight;
         const SampledSpectrum L =
             weight * (m_minLength > 1 ? longPaths(ray, lambda, sampler) : m_path.li(ray, lambda, sampler));
         if (L.isBlack()) return;
@@ -117,8 +136,6 @@ private:
     const ICamera& m_camera;
     PathIntegrator m_path;
     int m_minLength;
-    Vector2i m_size;
-    Point2f m_offset;
 };
 
 } // namespace effigi
