@@ -5,6 +5,8 @@
 //
 // Every statistical test is seeded, so it either always passes or always fails; the
 // significance level it was designed with is stated next to it.
+#include "mc_mean.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ifunction.hpp"
 #include "effigi/interfaces/iintegrator.hpp"
@@ -18,6 +20,7 @@
 #include <set>
 
 using namespace effigi;
+using effigi::test::mcMean;
 
 namespace {
 
@@ -265,23 +268,6 @@ TEST_CASE("mean integrator: several channels, large offsets, channel limit", "[s
 
 // ---------------------------------------------------------------------------------------
 // warp functions
-
-namespace {
-
-/// Monte Carlo estimate (mean, standard error) of E[g(U)] for U uniform on [0,1)².
-template <typename G> std::pair<double, double> mcMean(G g, int n, std::uint64_t seed) {
-    PCG32 rng(seed, 1);
-    double sum = 0.0, sum2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        double v = g(Point2f(rng.nextFloat(), rng.nextFloat()));
-        sum += v;
-        sum2 += v * v;
-    }
-    double m = sum / n;
-    return {m, std::sqrt(std::max(0.0, sum2 / n - m * m) / n)};
-}
-
-} // namespace
 
 TEST_CASE("warp pdfs integrate to one", "[sampling]") {
     const int n = 400000;

@@ -10,29 +10,28 @@
 // - The Cornell box with the white walls' BSDF given the uniform warp from XML has the
 //   image mean of the default (tolerance stated at the check) and is noisier against a
 //   high-spp reference: the XML warp is really used.
-// - A bad nested warp (unknown type, a non-warp, a planar warp) is a one-line error
-//   naming file:line.
-// The schemas of diffuse and area declare no conformance configuration with a nested
-// warp (it would load the warp module whenever their schema is read, which test_registry
-// forbids for diffuse); the sample/pdf agreement checks here stand in for it.
+// - A bad nested warp is a one-line error naming file:line and the parameter: an unknown
+//   type, a non-warp, and for every component that takes a warp (the BSDFs with a diffuse
+//   lobe, the area, point, spot and constant lights, the thin lens) one of the wrong
+//   domain (points of the plane for directions, or the reverse); a lens warp that does
+//   not cover the unit disk too.
+// The other BSDFs' and the lights' and lens' warps are checked in test_warps_in_use_bsdf
+// and test_warps_in_use_lights. The schemas declare no conformance configuration with a
+// nested warp (it would load the warp module whenever their schema is read, which
+// test_registry forbids for diffuse); the sample/pdf agreement checks stand in for it.
 #include "bsdf_helpers.hpp"
 #include "emitter_helpers.hpp"
 #include "scene_text.hpp"
-#include "xml_helpers.hpp"
+#include "warps_in_use_helpers.hpp"
 
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/irenderer.hpp"
-#include "effigi/interfaces/ishape.hpp"
-#include "effigi/interfaces/iwarp.hpp"
 #include "effigi/math/frame.hpp"
 #include "effigi/math/rng.hpp"
-#include "effigi/xml/loader.hpp"
-#include "effigi/xml/parser.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstring>
 
 using namespace effigi;
 using namespace effigi::test;
@@ -42,29 +41,6 @@ namespace {
 const std::string Cornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml";
 const std::string Geometry = EFFIGI_SOURCE_DIR "/scenes/cornell-box/geometry.xml";
 const std::string WhiteBSDF = "<bsdf type=\"diffuse\" id=\"white\">";
-
-Ref<IWarp> makeWarp(const std::string& type) {
-    Properties p("warp", type);
-    Ref<IWarp> w = query<IWarp>(Registry::instance().create("warp", type, p));
-    REQUIRE(w);
-    return w;
-}
-
-PropertyValue warpValue(const std::string& type) { return ComponentValue{"warp", makeWarp(type)}; }
-
-bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool sameBits(const Vector3f& a, const Vector3f& b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z); }
-
-/// A unit square [-½,½]² at z = 0, normal +z, carrying the emitter.
-Ref<IShape> square(const Ref<IEmitter>& e) {
-    Properties p("shape", "rectangle");
-    p.set("to_world", Transform::scale(Vector3f(0.5f, 0.5f, 1.f)));
-    p.set("emitter", ComponentValue{"emitter", e});
-    Ref<IShape> s = query<IShape>(Registry::instance().create("shape", "rectangle", p));
-    REQUIRE(s);
-    e->preprocess(BBox3f(Point3f(-1.f), Point3f(1.f)));
-    return s;
-}
 
 /// The Cornell box (32², `spp` samples per pixel) with geometry.xml spliced in place of
 /// its <include> (so that its text can be edited) and `whiteInner` added inside the white
@@ -254,24 +230,32 @@ TEST_CASE("warps in use: the Cornell box with a uniform warp from XML: same mean
 }
 
 TEST_CASE("warps in use: a bad nested warp is a one-line error naming file:line", "[warp][errors]") {
-    auto load = [](const std::string& inner) {
-        const std::string text = "<scene version=\"3.0.0\">\n"
-                                 "  <bsdf type=\"diffuse\" id=\"white\">\n"
-                                 "    " + inner + "\n"
-                                 "  </bsdf>\n"
-                                 "</scene>\n";
-        loadScene(*xml::parseString(text, "bad.xml", {}));
+    // Every component that takes a nested warp, with a warp of the wrong domain; diffuse
+    // also with an unknown type and a non-warp.
+    struct Case {
+        std::string open, close, inner, what;
     };
-    const std::pair<std::string, std::string> cases[] = {
-        {"<warp type=\"nonexistent\"/>", "unknown warp 'nonexistent'"},
-        {"<texture type=\"checkerboard\" name=\"warp\"/>", "must be a nested warp"},
-        {"<warp type=\"square_to_disk\"/>", "points of the plane, not directions"},
+    const std::string plane = "<warp type=\"square_to_disk\"/>", notDirections = "points of the plane, not directions";
+    std::vector<Case> cases = {
+        {"<bsdf type=\"diffuse\" id=\"b\">", "</bsdf>", "<warp type=\"nonexistent\"/>", "unknown warp 'nonexistent'"},
+        {"<bsdf type=\"diffuse\" id=\"b\">", "</bsdf>", "<texture type=\"checkerboard\" name=\"warp\"/>", "must be a nested warp"},
+        {"<shape type=\"rectangle\"><emitter type=\"area\">", "</emitter></shape>", plane, notDirections},
+        {"<sensor type=\"thinlens\"><float name=\"aperture_radius\" value=\"0.1\"/>", "</sensor>",
+         "<warp type=\"uniform_hemisphere\"/>", "gives directions, not points of the plane"},
+        {"<sensor type=\"thinlens\"><float name=\"aperture_radius\" value=\"0.1\"/>", "</sensor>",
+         "<warp type=\"uniform_triangle\"/>", "does not cover the unit disk of the lens"},
     };
-    for (const auto& [inner, what] : cases) {
-        std::string e = errorOf([&] { load(inner); });
-        INFO(inner << " -> " << e);
+    for (const char* bsdf : {"diffuse", "orennayar", "phong", "plastic", "roughplastic", "principled", "principledthin"})
+        cases.push_back({fmt::format("<bsdf type=\"{}\" id=\"b\">", bsdf), "</bsdf>", plane, notDirections});
+    for (const char* light : {"point", "spot", "constant"})
+        cases.push_back({fmt::format("<emitter type=\"{}\">", light), "</emitter>", plane, notDirections});
+    for (const Case& c : cases) {
+        std::string e = nestedWarpError(c.open, c.close, c.inner);
+        INFO(c.open << " " << c.inner << " -> " << e);
         CHECK(e.rfind("bad.xml:3", 0) == 0);
-        CHECK(e.find(what) != std::string::npos);
+        CHECK(e.find(c.what) != std::string::npos);
         CHECK(e.find('\n') == std::string::npos);
+        if (c.what != "unknown warp 'nonexistent'" && c.what != "must be a nested warp")
+            CHECK(e.find("parameter 'warp'") != std::string::npos);
     }
 }

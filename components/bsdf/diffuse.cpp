@@ -5,7 +5,8 @@
 // normal, zero otherwise. Like Mitsuba 3's `diffuse` it is ONE-SIDED: seen from below
 // the surface is black (wrap it in `twosided` to reflect on both sides).
 //
-// Sampling: directions are drawn through a warp (issue 14, "warps in use").
+// Sampling: directions are drawn through a warp (issue 14, "warps in use"; the choice is
+// effigi/render/warp_choice.hpp, the lobe's helpers components/bsdf/cosine_lobe.hpp).
 // - Default: the compile-time cosine warp, i.e. exactly the code the warp component
 //   `cosine_hemisphere` wraps (warp::squareToCosineHemisphere and its pdf, Malley's
 //   method), so f·cos/pdf = ρ exactly; tests/test_warps_in_use.cpp checks bit-exact
@@ -26,10 +27,6 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
-#include "effigi/interfaces/iwarp.hpp"
-#include "effigi/math/warp_functions.hpp"
-
-#include <cmath>
 
 namespace effigi {
 namespace {
@@ -42,9 +39,7 @@ public:
         s.texture("reflectance", 0.5f, SpectrumKind::Reflectance,
                   "Albedo ρ (spectrum or texture); f = ρ/π above the surface")
             .range(0.0, 1.0);
-        s.child("warp", "warp",
-                "Direction sampler (a warp onto the sphere of directions); default: the code of "
-                "warp `cosine_hemisphere` (cosine-weighted), compiled in");
+        declareDiffuseWarp(s, "the reflection");
         s.addConformance({"default", {}});
         s.addConformance({"black", {{"reflectance", 0.0}}});
         s.addConformance({"white", {{"reflectance", 1.0}}});
@@ -56,11 +51,7 @@ public:
     }
 
     explicit Diffuse(const Properties& p)
-        : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)), m_warp(p.get<IWarp>("warp")) {
-        if (m_warp && m_warp->domain().kind != WarpDomain::Kind::Sphere)
-            failAt(p.whereOf("warp"), "{}: the nested warp '{}' gives points of the plane, not directions",
-                   p.describe(), m_warp->typeName());
-    }
+        : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)), m_warp(p) {}
 
     std::uint32_t flags() const override { return BSDFReflection | BSDFDiffuse; }
 
@@ -73,18 +64,11 @@ public:
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float, const Point2f& u,
                                      SampledWavelengths& lambda, TransportMode) const override {
         if (!(wo.z > 0.f)) return std::nullopt;
-        Vector3f wi;
-        float pdf;
-        if (m_warp) {
-            wi = m_warp->sample(u);
-            pdf = m_warp->pdf(wi);
-        } else {
-            wi = warp::squareToCosineHemisphere(u);
-            pdf = warp::squareToCosineHemispherePdf(wi);
-        }
+        Vector3f wi = m_warp.sample(u);
+        float pdf = m_warp.pdf(wi);
         // Below or on the surface f = 0 (the rim of the disk maps to wi.z = 0, whose cosine
         // density is zero): no usable sample, never a NaN.
-        if (!(wi.z > 0.f) || !(pdf > 0.f) || !std::isfinite(pdf)) return std::nullopt;
+        if (!(wi.z > 0.f) || !(pdf > 0.f)) return std::nullopt;
         BSDFSample bs;
         bs.f = m_reflectance->eval(si, lambda) * InvPi;
         bs.wi = wi;
@@ -95,10 +79,7 @@ public:
 
     float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
-        if (!m_warp) return oneSidedCosinePdf(wo, wi);
-        if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
-        float pdf = m_warp->pdf(wi);
-        return std::isfinite(pdf) && pdf > 0.f ? pdf : 0.f;
+        return oneSidedPdf(m_warp, wo, wi);
     }
 
     /// The hemispherical reflectance of a Lambertian surface is ρ for every wo.
@@ -108,7 +89,7 @@ public:
 
 private:
     Ref<ITexture> m_reflectance;
-    Ref<IWarp> m_warp;  // null: the compiled-in cosine warp
+    DiffuseWarp m_warp;
 };
 
 } // namespace

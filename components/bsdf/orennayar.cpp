@@ -15,7 +15,11 @@
 //     f = ρ/π (A + B max(0, cosΔφ) sinα tanβ),  A = 1 − σ²/(2(σ² + 0.33)), B = 0.45 σ²/(σ² + 0.09)
 // The full model's fit dips slightly below zero in back-scattering at grazing angles and
 // large σ: those values are clamped to 0. σ = 0 is exactly Lambertian. f is symmetric in (wo, wi) (reciprocal). One-sided like
-// diffuse. Sampling is cosine-weighted, as Mitsuba 0.6 does.
+// diffuse. Sampling is cosine-weighted, as Mitsuba 0.6 does, through a warp (issue 14):
+// by default the compiled-in code of warp `cosine_hemisphere`; a nested `warp` (any warp
+// onto the sphere of directions) replaces it in sample() and pdf() (cosine_lobe.hpp). A
+// direction it draws below the surface is no sample; one covering the upper hemisphere
+// keeps the estimator unbiased.
 //
 // Energy: the approximation is not energy-conserving at ρ = 1: the directional albedo
 // reaches 1.005 (qualitative, σ ≈ 0.3, near-grazing) and 1.05 (full model, the L2 term)
@@ -26,6 +30,7 @@
 //   alpha            texture (float, default 0.2)        RMS facet slope, Mitsuba 0.6's roughness: σ = α/√2
 //   sigma            float (optional, radians)           σ directly, instead of alpha
 //   use_fast_approx  bool (default false)                the qualitative model
+//   warp             nested warp (optional)              the direction sampler; default cosine-weighted
 //
 // Reference: M. Oren, S. K. Nayar, "Generalization of Lambert's Reflectance Model",
 // SIGGRAPH 1994; Mitsuba 0.6 documentation, "Rough diffuse material (roughdiffuse)".
@@ -34,7 +39,6 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
-#include "effigi/math/warp_functions.hpp"
 
 namespace effigi {
 namespace {
@@ -53,6 +57,7 @@ public:
                                               "instead of alpha; 0 is Lambertian")
             .range(0.0, 100.0);
         s.boolean("use_fast_approx", false, "Use the qualitative model (no C3 and inter-reflection terms)");
+        declareDiffuseWarp(s, "the reflection");
         using P = std::vector<std::pair<std::string, PropertyValue>>;
         auto cfg = [&](const char* name, P p) { s.addConformance({name, std::move(p)}); };
         cfg("default", {});
@@ -74,7 +79,7 @@ public:
 
     explicit OrenNayar(const Properties& p)
         : m_reflectance(p.getTexture("reflectance", SpectrumKind::Reflectance)),
-          m_alpha(p.getTexture("alpha", SpectrumKind::Unbounded)), m_fast(p.getBool("use_fast_approx")) {
+          m_alpha(p.getTexture("alpha", SpectrumKind::Unbounded)), m_fast(p.getBool("use_fast_approx")), m_warp(p) {
         if (p.has("sigma")) {
             if (const Properties::Entry* e = p.find("alpha"); e && !e->fromDefault)
                 failAt(e->where, "{}: give either 'alpha' or 'sigma', not both", p.describe());
@@ -94,12 +99,9 @@ public:
                                      SampledWavelengths& lambda, TransportMode) const override {
         if (!(wo.z > 0.f)) return std::nullopt;
         BSDFSample bs;
-        bs.wi = warp::squareToCosineHemisphere(u);
-        // The edge of the square maps to the rim wi.z = 0, of zero density: lifted to
-        // cos θ = 1e-7 so that every square point gives a sample (a null set: the
-        // distribution is unchanged).
-        if (bs.wi.z < 1e-7f) bs.wi = normalize(Vector3f(bs.wi.x, bs.wi.y, 1e-7f));
-        bs.pdf = warp::squareToCosineHemispherePdf(bs.wi);
+        bs.wi = sampleRimLifted(m_warp, u);
+        bs.pdf = m_warp.pdf(bs.wi);
+        if (!(bs.wi.z > 0.f) || !(bs.pdf > 0.f)) return std::nullopt;  // a nested warp's, below the surface
         bs.f = value(si, wo, bs.wi, lambda);
         bs.flags = BSDFReflection | BSDFDiffuse;
         return bs;
@@ -107,7 +109,7 @@ public:
 
     float pdf(const SurfaceInteraction&, const Vector3f& wo, const Vector3f& wi, const SampledWavelengths&,
               TransportMode) const override {
-        return oneSidedCosinePdf(wo, wi);
+        return oneSidedPdf(m_warp, wo, wi);
     }
 
 private:
@@ -146,6 +148,7 @@ private:
     Ref<ITexture> m_reflectance, m_alpha;
     float m_sigma = -1.f;  ///< σ given directly; negative: from alpha
     bool m_fast;
+    DiffuseWarp m_warp;
 };
 
 } // namespace

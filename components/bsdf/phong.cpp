@@ -9,22 +9,27 @@
 // Sampling (Lafortune & Willems 1994, §4): the glossy lobe with probability
 // ρs̄/(ρd̄ + ρs̄) (texture means, as Mitsuba 0.6), a direction around R with density
 // (n + 1)/(2π) cos^n of its angle to R (directions that end below the surface are lost);
-// otherwise cosine-weighted. pdf() is the mixture of both densities.
+// otherwise cosine-weighted, through a warp (issue 14): by default the compiled-in code of
+// warp `cosine_hemisphere`, or a nested `warp` (any warp onto the sphere of directions;
+// components/bsdf/cosine_lobe.hpp). pdf() is the mixture of both densities, the diffuse
+// one the warp's, so a warp covering the upper hemisphere keeps the estimator unbiased.
 //
 // Parameters (Mitsuba 0.6 names, snake_case):
 //   exponent              texture (float, default 30)         n, the glossiness
 //   specular_reflectance  texture (reflectance, default 0.2)  ρs
 //   diffuse_reflectance   texture (reflectance, default 0.5)  ρd
+//   warp                  nested warp (optional)  sampler of the diffuse lobe; default cosine-weighted
 //
 // References: E. P. F. Lafortune, Y. D. Willems, "Using the modified Phong reflectance
 // model for physically based rendering", Tech. Report CW197, KU Leuven, 1994; Mitsuba 0.6
 // documentation, "Modified Phong BRDF (phong)".
+#include "cosine_lobe.hpp"
+
 #include "effigi/core/log.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
 #include "effigi/math/frame.hpp"
-#include "effigi/math/warp_functions.hpp"
 
 namespace effigi {
 namespace {
@@ -40,6 +45,7 @@ public:
             .range(0.0, 1.0);
         s.texture("diffuse_reflectance", 0.5f, SpectrumKind::Reflectance, "Albedo ρd of the diffuse base")
             .range(0.0, 1.0);
+        declareDiffuseWarp(s, "the diffuse lobe");
         using P = std::vector<std::pair<std::string, PropertyValue>>;
         auto cfg = [&](const char* name, P p) { s.addConformance({name, std::move(p)}); };
         cfg("default", {});
@@ -57,7 +63,7 @@ public:
     explicit Phong(const Properties& p)
         : m_exponent(p.getTexture("exponent", SpectrumKind::Unbounded)),
           m_specular(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)),
-          m_diffuse(p.getTexture("diffuse_reflectance", SpectrumKind::Reflectance)) {
+          m_diffuse(p.getTexture("diffuse_reflectance", SpectrumKind::Reflectance)), m_warp(p) {
         float d = m_diffuse->mean(), sp = m_specular->mean();
         if (d + sp > 1.f + 1e-3f)
             log::warn("{}: {}: diffuse_reflectance + specular_reflectance exceeds 1 on average: the BRDF gains energy",
@@ -81,7 +87,7 @@ public:
         if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
         double n = exponent(si), c = cosToMirror(wo, wi);
         double glossy = c > 0.0 ? (n + 1.0) * Inv2Pi * std::pow(c, n) : 0.0;
-        return float(m_specularWeight * glossy + (1.0 - m_specularWeight) * warp::squareToCosineHemispherePdf(wi));
+        return float(m_specularWeight * glossy + (1.0 - m_specularWeight) * m_warp.pdf(wi));
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f& u,
@@ -98,7 +104,7 @@ public:
             Frame lobe(reflectLocal(wo));
             bs.wi = normalize(lobe.toWorld(Vector3f(float(sinA * std::cos(phi)), float(sinA * std::sin(phi)), float(cosA))));
         } else {
-            bs.wi = rimLifted(warp::squareToCosineHemisphere(u));
+            bs.wi = sampleRimLifted(m_warp, u);
         }
         bs.pdf = pdf(si, wo, bs.wi, lambda, mode);
         if (!(bs.wi.z > 0.f) || !(bs.pdf >= std::numeric_limits<float>::min())) return std::nullopt;
@@ -108,13 +114,6 @@ public:
     }
 
 private:
-    /// The edge of the unit square maps to the rim wi.z = 0 of the cosine warp, a direction
-    /// of zero density; it is lifted to cos θ = 1e-7 so that every square point gives a
-    /// sample (the set has measure zero: the distribution is unchanged).
-    static Vector3f rimLifted(Vector3f w) {
-        if (w.z < 1e-7f) w = normalize(Vector3f(w.x, w.y, 1e-7f));
-        return w;
-    }
     static Vector3f reflectLocal(const Vector3f& w) { return {-w.x, -w.y, w.z}; }
     /// wi·R(wo) in double, divided by the lengths: the lobe of a huge exponent is narrower
     /// than float rounding of it, and a float unit vector's length is 1 only to ~6e-8, which
@@ -128,6 +127,7 @@ private:
 
     Ref<ITexture> m_exponent, m_specular, m_diffuse;
     float m_specularWeight;
+    DiffuseWarp m_warp;
 };
 
 } // namespace

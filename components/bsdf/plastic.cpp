@@ -10,10 +10,12 @@
 // kink at the critical angle). One-sided like Mitsuba's: black seen from below.
 //
 // Sampling: the delta with probability P ∝ F(θo)·w, else the cosine-weighted diffuse lobe
-// (w: the specular sampling weight). The delta's weight is F·R_s / P.
+// (w: the specular sampling weight), drawn through the nested `warp` if one is given
+// (plastic_common.hpp). The delta's weight is F·R_s / P.
 //
 // Parameters (as Mitsuba 3): int_ior (default "polypropylene", 1.49), ext_ior (default
-// "air"), diffuse_reflectance (0.5), specular_reflectance (1), nonlinear (false).
+// "air"), diffuse_reflectance (0.5), specular_reflectance (1), nonlinear (false); and
+//   warp  nested warp (optional)  sampler of the diffuse lobe; default cosine-weighted
 //
 // References: A. Weidlich, A. Wilkie, "Arbitrarily Layered Micro-Facet Surfaces",
 // GRAPHITE 2007; Mitsuba 3 documentation, "Smooth plastic material (plastic)".
@@ -21,7 +23,6 @@
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
-#include "effigi/math/warp_functions.hpp"
 #include "effigi/render/fresnel.hpp"
 
 namespace effigi {
@@ -90,7 +91,7 @@ public:
               TransportMode) const override {
         if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
         float pDiffuse = 1.f - m_params.specularProbability(transmittance(wo.z));
-        return pDiffuse * warp::squareToCosineHemispherePdf(wi);
+        return pDiffuse * m_params.diffuseWarp.pdf(wi);
     }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f& u,
@@ -107,9 +108,9 @@ public:
             bs.flags = BSDFReflection | BSDFSpecular;
             return bs;
         }
-        bs.wi = warp::squareToCosineHemisphere(u);
+        bs.wi = m_params.diffuseWarp.sample(u);
         bs.pdf = pdf(si, wo, bs.wi, lambda, mode);
-        if (!(bs.pdf > 0.f)) return std::nullopt;  // the rim of the disk (wi.z = 0)
+        if (!(bs.pdf > 0.f)) return std::nullopt;  // the rim of the disk (wi.z = 0), or below the surface
         bs.f = f(si, wo, bs.wi, lambda, mode);
         bs.flags = BSDFReflection | BSDFDiffuse;
         return bs;

@@ -19,11 +19,15 @@
 //
 // Lobe selection (as Mitsuba): the specular lobe is picked with probability
 // ∝ (1 − T(θo))·w and the diffuse one ∝ T(θo)·(1 − w), where w = mean(specular) /
-// (mean(specular) + mean(diffuse)) is the specular sampling weight.
+// (mean(specular) + mean(diffuse)) is the specular sampling weight. The diffuse lobe is
+// drawn through a warp (issue 14): by default the compiled-in code of warp
+// `cosine_hemisphere`, or a nested `warp` (components/bsdf/cosine_lobe.hpp); the plastics'
+// pdf() use its density, so any warp covering the upper hemisphere keeps them unbiased.
 //
 // References: A. Weidlich, A. Wilkie, "Arbitrarily Layered Micro-Facet Surfaces",
 // GRAPHITE 2007; Mitsuba 3 documentation, "Smooth plastic material (plastic)" and
 // "Rough plastic material (roughplastic)"; E. Veach, PhD thesis, 1997, §5.2.
+#include "cosine_lobe.hpp"
 #include "dielectric_ior.hpp"
 
 #include "effigi/interfaces/ibsdf.hpp"
@@ -47,6 +51,7 @@ inline void declarePlastic(Schema& s) {
               "Factor on the coating's specular reflection (not physical; artistic control)")
         .range(0.0, 1.0);
     s.boolean("nonlinear", false, "Account for the colour shift of internal scattering: divide by 1 − ρ R_int");
+    declareDiffuseWarp(s, "the diffuse substrate's lobe");
 }
 
 /// The substrate and coating parameters read from a plastic's properties.
@@ -55,10 +60,11 @@ struct PlasticParams {
     bool nonlinear = false;
     Ref<ITexture> diffuse, specular;
     float specularWeight = 0.5f;  ///< the specular sampling weight w
+    DiffuseWarp diffuseWarp;      ///< the sampler of the diffuse lobe
 
     explicit PlasticParams(const Properties& p)
         : nonlinear(p.getBool("nonlinear")), diffuse(p.getTexture("diffuse_reflectance", SpectrumKind::Reflectance)),
-          specular(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)) {
+          specular(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)), diffuseWarp(p) {
         eta = readIOR(p, "int_ior")(PlasticIORWavelength) / readIOR(p, "ext_ior")(PlasticIORWavelength);
         float d = std::max(0.f, diffuse->mean()), s = std::max(0.f, specular->mean());
         // Both black: any weight samples nothing but zeros; keep the selection defined.

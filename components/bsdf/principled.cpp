@@ -21,24 +21,27 @@
 // Sampling (as Mitsuba): a lobe with fixed probabilities ∝ brdf·diffuse_rate,
 // 0.25 clearcoat·clearcoat_rate and main_specular_rate; within the specular lobe, a visible
 // GGX normal m and then reflection with probability 1 − bsdf (1 − F(wo·m)), refraction
-// otherwise (from inside: F and 1 − F). pdf() is the mixture of all densities.
+// otherwise (from inside: F and 1 − F). pdf() is the mixture of all densities. The diffuse
+// (and sheen) lobe is drawn through a warp (issue 14, cosine_lobe.hpp): by default the
+// compiled-in code of warp `cosine_hemisphere`, or a nested `warp`; the GGX lobe samples
+// visible normals with the α and wo of each call, which a warp of fixed parameters lacks.
 //
 // Parameters (as Mitsuba 3): base_color (0.5), roughness (0.5), anisotropic, metallic,
 // spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss (textures,
 // 0); eta or specular (0.5 ⇒ η = 1.5); main_specular_sampling_rate, clearcoat_sampling_rate,
 // diffuse_reflectance_sampling_rate (1). A lobe whose weight is not given (or a constant 0)
-// is off, as in Mitsuba.
+// is off, as in Mitsuba. warp: nested warp (optional), the diffuse lobe's sampler.
 //
 // References: B. Burley, "Physically-Based Shading at Disney", SIGGRAPH 2012 course; B.
 // Burley, "Extending the Disney BRDF to a BSDF with Integrated Subsurface Scattering",
 // SIGGRAPH 2015 course; B. Walter et al., "Microfacet Models for Refraction through Rough
 // Surfaces", EGSR 2007; Mitsuba 3 documentation, "The Principled BSDF (principled)".
+#include "cosine_lobe.hpp"
 #include "principled_lobes.hpp"
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/itexture.hpp"
-#include "effigi/math/warp_functions.hpp"
 #include "effigi/render/fresnel.hpp"
 #include "effigi/render/microfacet.hpp"
 
@@ -107,6 +110,7 @@ public:
         s.real("clearcoat_sampling_rate", 1.0, "Relative probability of sampling the clear coat").atLeast(0.0);
         s.real("diffuse_reflectance_sampling_rate", 1.0, "Relative probability of sampling the diffuse lobe")
             .atLeast(0.0);
+        declareDiffuseWarp(s, "the diffuse and sheen lobe");
         using P = std::vector<std::pair<std::string, PropertyValue>>;
         auto cfg = [&](const char* name, P p) { s.addConformance({name, std::move(p)}); };
         cfg("default", {});
@@ -144,7 +148,7 @@ public:
         : m_baseColor(p.getTexture("base_color", SpectrumKind::Reflectance)),
           m_roughness(p.getTexture("roughness", SpectrumKind::Unbounded)),
           m_specRate(p.getFloat("main_specular_sampling_rate")), m_ccRate(p.getFloat("clearcoat_sampling_rate")),
-          m_diffRate(p.getFloat("diffuse_reflectance_sampling_rate")) {
+          m_diffRate(p.getFloat("diffuse_reflectance_sampling_rate")), m_warp(p) {
         auto weight = [&](const char* name, bool& has) {
             Ref<ITexture> t = p.getTexture(name, SpectrumKind::Unbounded);
             const Properties::Entry* e = p.find(name);
@@ -213,7 +217,7 @@ public:
             pdf += pSpec * lobe * distribution(l).visiblePdf(wo, h) * dhdwi;
             if (reflect && front && l.pClearcoat > 0.f) pdf += l.pClearcoat * clearcoatDist(l).pdf(h) * dhdwi;
         }
-        if (reflect && front) pdf += l.pDiffuse * warp::squareToCosineHemispherePdf(wi);
+        if (reflect && front) pdf += l.pDiffuse * m_warp.pdf(wi);
         return float(std::min(pdf, 1e30));
     }
 
@@ -226,9 +230,7 @@ public:
         BSDFSample bs;
         bs.flags = BSDFReflection | BSDFGlossy;
         if (front && uc < l.pDiffuse) {
-            bs.wi = warp::squareToCosineHemisphere(u);
-            // The square's edge maps to the rim wi.z = 0 (zero density): lifted, a null set.
-            if (bs.wi.z < 1e-7f) bs.wi = normalize(Vector3f(bs.wi.x, bs.wi.y, 1e-7f));
+            bs.wi = sampleRimLifted(m_warp, u);
             bs.flags = BSDFReflection | BSDFDiffuse;
         } else if (front && uc < l.pDiffuse + l.pClearcoat) {
             Vector3f m = clearcoatDist(l).sample(u);
@@ -356,6 +358,7 @@ private:
         m_flatness, m_clearcoat, m_gloss;
     bool m_hasSpecTrans = false, m_hasSheen = false, m_hasClearcoat = false;
     float m_eta = 1.5f, m_specRate, m_ccRate, m_diffRate;
+    DiffuseWarp m_warp;
 };
 
 } // namespace

@@ -18,11 +18,15 @@
 // % brighter at α >= 0.3). Isotropic only, like Mitsuba. One-sided: black seen from below.
 //
 // Sampling: the microfacet lobe with probability ∝ (1 − T(θo))·w, else cosine-weighted
-// diffuse; sample()'s f and pdf are f() and pdf() at the sampled direction.
+// diffuse through the nested `warp` if one is given (plastic_common.hpp); sample()'s f and
+// pdf are f() and pdf() at the sampled direction. The microfacet lobe samples visible
+// normals itself (Heitz & d'Eon 2014), as warp `ggx_visible_normals` does, but with the
+// parameters of each call (wo, α), which a nested warp of fixed parameters cannot take.
 //
 // Parameters (as Mitsuba 3): distribution (beckmann | ggx), alpha (0.1), sample_visible
 // (true), int_ior ("polypropylene"), ext_ior ("air"), diffuse_reflectance (0.5),
-// specular_reflectance (1), nonlinear (false).
+// specular_reflectance (1), nonlinear (false); and
+//   warp  nested warp (optional)  sampler of the diffuse lobe; default cosine-weighted
 //
 // References: A. Weidlich, A. Wilkie, "Arbitrarily Layered Micro-Facet Surfaces",
 // GRAPHITE 2007; B. Walter et al., "Microfacet Models for Refraction through Rough
@@ -33,7 +37,6 @@
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
-#include "effigi/math/warp_functions.hpp"
 #include "effigi/render/fresnel.hpp"
 
 #include <array>
@@ -102,7 +105,7 @@ public:
               TransportMode) const override {
         if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
         float pSpecular = m_params.specularProbability(transmittance(wo.z));
-        double pdf = (1.0 - pSpecular) * warp::squareToCosineHemispherePdf(wi);
+        double pdf = (1.0 - pSpecular) * m_params.diffuseWarp.pdf(wi);
         if (Vector3f h; reflectionHalfVector(wo, wi, h)) {
             // Reflection maps m to wi with |dωi / dωm| = 4 (wo·m) (Walter 2007, eq. 14).
             float pm = m_sampleVisible ? m_dist.visiblePdf(wo, h) : m_dist.normalPdf(h);
@@ -123,7 +126,7 @@ public:
             bs.wi = normalize(2.f * cosOM * m - wo);
             bs.flags = BSDFReflection | BSDFGlossy;
         } else {
-            bs.wi = warp::squareToCosineHemisphere(u);
+            bs.wi = m_params.diffuseWarp.sample(u);
             bs.flags = BSDFReflection | BSDFDiffuse;
         }
         bs.pdf = pdf(si, wo, bs.wi, lambda, mode);

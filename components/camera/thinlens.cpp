@@ -8,6 +8,14 @@
 // aperture_radius 0 it is the pinhole camera. Camera space and the field of view follow
 // Mitsuba (projection.hpp, shared with perspective): +z forward, +y up, +x left.
 //
+// The lens point is drawn through a warp (issue 14, effigi/render/warp_choice.hpp): by
+// default the compiled-in code of warp `square_to_disk` (uniform on the unit disk, scaled
+// by the radius). A nested `warp` (any warp onto the plane whose bounds cover the unit
+// disk) replaces it in generateRay() and sampleDirection(); the aperture stays the disk,
+// so a ray's weight becomes (1/π) / pdf(p) for the warp's point p inside the unit disk
+// (uniform importance over the aperture, divided by the sampling density) and 0 outside
+// it. Any warp covering the disk is thus unbiased; the default's weight is exactly 1.
+//
 // Parameters:
 //   aperture_radius          float (scene units, >= 0; required, as in Mitsuba)  lens radius
 //   focus_distance           float (scene units, > 0; default far_clip)  distance of the plane in focus
@@ -16,6 +24,7 @@
 //   near_clip, far_clip      float (default 1e-2, 1e4)  rays run between these planes
 //   to_world                 transform  camera-to-world (use lookat); no scaling
 //   film, sampler            nested  default: hdrfilm and independent
+//   warp                     nested warp (optional)  lens point sampler; default uniform on the disk
 //
 // Light tracers (ptracer) connect to it through ICameraImportance: the lens sample picks
 // a point on the aperture and the scene point projects through it, via the plane in
@@ -28,7 +37,7 @@
 // Tracing", SIGGRAPH 1984; Mitsuba 3 documentation, "Perspective camera with a thin lens".
 #include "projection.hpp"
 
-#include "effigi/math/warp_functions.hpp"
+#include "effigi/render/warp_choice.hpp"
 
 namespace effigi {
 namespace {
@@ -48,6 +57,8 @@ public:
         camera::addFovParams(s, 0.0);
         s.transform("to_world", "Camera-to-world transform (lookat); rotation and translation only");
         camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on the near plane");
+        LensWarp::declare(s, "Lens point sampler (a warp onto the plane covering the unit disk, scaled by "
+                             "aperture_radius); default: the code of warp `square_to_disk`, compiled in");
         // Conformance (conformance/camera_suite.cpp): an ordinary lens, an aperture of 0 and
         // near 0, a wide aperture focused close, the fov near both ends of (0, 180), and
         // near_clip close to far_clip around the focus distance.
@@ -77,13 +88,21 @@ public:
         m_filmSize = camera::filmSize(p, *m_film);
         m_tanHalf = camera::imagePlaneHalfExtent(p, m_filmSize);
         m_area = 4.f * m_tanHalf.x * m_tanHalf.y;
+        m_lens = LensWarp(p);
+        if (const IWarp* w = m_lens.nestedWarp()) {
+            WarpDomain dom = w->domain();
+            if (!(dom.lower.x <= -1.f && dom.lower.y <= -1.f && dom.upper.x >= 1.f && dom.upper.y >= 1.f))
+                failAt(p.whereOf("warp"), "{}: the nested warp '{}' (parameter 'warp') does not cover the unit disk "
+                       "of the lens: its points lie in [{}, {}] x [{}, {}]", p.describe(), w->typeName(),
+                       dom.lower.x, dom.upper.x, dom.lower.y, dom.upper.y);
+        }
     }
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
         // The point in focus for this film position, then a lens point toward it.
         Vector3f focus = m_focus * camera::imagePlanePoint(s.pFilm, m_filmSize, m_tanHalf);
-        Point2f lens = m_aperture * warp::squareToUniformDiskConcentric(s.pLens);
-        Vector3f lensPoint(lens.x, lens.y, 0.f);
+        float lensWeight;
+        Vector3f lensPoint = sampleLens(s.pLens, lensWeight);
         Vector3f d = normalize(focus - lensPoint);
         // Clip to the slab near <= z <= far of camera space, as Mitsuba does (d.z > 0:
         // the focus point lies in front of the lens).
@@ -92,7 +111,7 @@ public:
         ray.d = normalize(m_toWorld.vector(d));
         ray.o = m_toWorld.point(Point3f(lensPoint + d * (m_near * invZ)));
         ray.tMax = (m_far - m_near) * invZ;
-        weight = SampledSpectrum(1.f);
+        weight = SampledSpectrum(lensWeight);
         return ray;
     }
 
@@ -104,11 +123,12 @@ public:
         out = CameraImportanceSample{};
         Point3f local = m_toLocal.point(ref);
         if (!(local.z >= m_near && local.z <= m_far)) return false;  // generateRay's clip slab
-        Point2f lens = m_aperture * warp::squareToUniformDiskConcentric(u);
-        Vector3f lensPoint(lens.x, lens.y, 0.f);
+        float lensWeight;
+        Vector3f lensPoint = sampleLens(u, lensWeight);
+        if (!(lensWeight > 0.f)) return false;  // a nested warp's point off the lens
         Vector3f d = Vector3f(local) - lensPoint;  // d.z = local.z > 0
         // Where the line meets z = focus, divided by focus: on the image plane z = 1.
-        Vector2f plane = Vector2f(lens.x, lens.y) / m_focus + Vector2f(d.x, d.y) / d.z;
+        Vector2f plane = Vector2f(lensPoint.x, lensPoint.y) / m_focus + Vector2f(d.x, d.y) / d.z;
         if (!camera::filmPosition(plane, m_filmSize, m_tanHalf, out.pFilm)) return false;
         float dist = length(d);
         float cosTheta = d.z / dist;
@@ -117,6 +137,7 @@ public:
         out.dist = dist;
         // The lens density 1 / (π r²) is folded into weight (pdf 1), as ptracer divides by pdf.
         out.weight = 1.f / (m_area * cosTheta * cosTheta * cosTheta * dist * dist);
+        if (m_lens.nested()) out.weight *= lensWeight;
         out.pdf = 1.f;
         if (!std::isfinite(out.weight)) {
             out = CameraImportanceSample{};
@@ -141,6 +162,22 @@ public:
     }
 
 private:
+    using LensWarp = WarpChoice<compiled_warp::SquareToDisk>;
+
+    /// The lens point (camera space, z = 0) for u and its weight: uniform importance over
+    /// the aperture over the warp's density, 1/(π pdf(p)) for p in the unit disk, else 0;
+    /// exactly 1 for the default, which is uniform on the disk.
+    Vector3f sampleLens(const Point2f& u, float& weight) const {
+        Vector3f p = m_lens.sample(u);
+        weight = 1.f;
+        if (m_lens.nested()) {
+            float pdf = m_lens.pdf(p);
+            weight = p.x * p.x + p.y * p.y <= 1.f && pdf > 0.f ? InvPi / pdf : 0.f;
+        }
+        return {m_aperture * p.x, m_aperture * p.y, 0.f};
+    }
+
+    LensWarp m_lens;
     float m_aperture = 0.f, m_focus = 1e4f, m_area = 4.f;
     Vector2f m_filmSize{1.f}, m_tanHalf{1.f};
 };

@@ -9,7 +9,8 @@
 // the normal through a warp: by default the compile-time cosine warp, i.e. exactly the
 // code the warp component `cosine_hemisphere` wraps (tests/test_warps_in_use.cpp checks
 // that bit for bit); a nested `warp` (any IWarp onto the sphere of directions, e.g.
-// `uniform_hemisphere` or a plugin) replaces it in sampleEmission() and pdfEmission().
+// `uniform_hemisphere` or a plugin) replaces it in sampleEmission() and pdfEmission()
+// (effigi/render/warp_choice.hpp).
 // The radiance is unchanged, so any warp covering the hemisphere is unbiased; a
 // direction with z ≤ 0 about the normal is no sample (zero pdf, zero L).
 //
@@ -26,13 +27,14 @@
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/interfaces/ishape.hpp"
 #include "effigi/interfaces/itexture.hpp"
-#include "effigi/interfaces/iwarp.hpp"
-#include "effigi/math/warp_functions.hpp"
+#include "effigi/render/warp_choice.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 
 namespace effigi {
 namespace {
+
+using DirectionWarp = WarpChoice<compiled_warp::CosineHemisphere>;
 
 class AreaEmitter final : public Implements<IEmitter> {
 public:
@@ -48,9 +50,8 @@ public:
         // Mitsuba's emitters take a light-selection weight; effigi picks lights by its own
         // rule, which changes noise only, never the expected image.
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule");
-        s.child("warp", "warp",
-                "Emission direction sampler (a warp onto the sphere of directions, about the normal); "
-                "default: the code of warp `cosine_hemisphere`, compiled in");
+        DirectionWarp::declare(s, "Emission direction sampler (a warp onto the sphere of directions, about the "
+                                  "normal); default: the code of warp `cosine_hemisphere`, compiled in");
         // Cases of the emitter conformance suite (conformance/emitter_suite.cpp), which
         // nests the light in a square and a sphere; extremes included.
         s.addConformance({"default", {}});
@@ -65,10 +66,7 @@ public:
 
     explicit AreaEmitter(const Properties& p)
         : m_radiance(p.getTexture("radiance", SpectrumKind::Illuminant)), m_emission(p, true, "radiance"),
-          m_warp(p.get<IWarp>("warp")) {
-        if (m_warp && m_warp->domain().kind != WarpDomain::Kind::Sphere)
-            failAt(p.whereOf("warp"), "{}: the nested warp '{}' gives points of the plane, not directions",
-                   p.describe(), m_warp->typeName());
+          m_warp(p) {
         if (m_emission.mode() != EmissionScale::Mode::Factor && !m_radiance->isConstant())
             failAt(p.whereOf(m_emission.mode() == EmissionScale::Mode::Power ? "power" : "luminance"),
                    "{}: 'luminance' and 'power' need a constant radiance, not a texture", p.describe());
@@ -128,13 +126,13 @@ public:
         EmissionSample es;
         if (!m_shape) return es;
         PositionSample ps = m_shape->samplePosition(uPos);
-        Vector3f local = m_warp ? m_warp->sample(uDir) : warp::squareToCosineHemisphere(uDir);
+        Vector3f local = m_warp.sample(uDir);
         Frame frame(ps.n);
         Vector3f d = frame.toWorld(local);
         es.ray = Ray{offsetRayOrigin(ps.p, ps.n, d), d, Infinity};
         es.n = ps.n;
         es.pdfPosition = ps.pdf;
-        es.pdfDirection = m_warp ? directionPdf(local) : warp::squareToCosineHemispherePdf(local);
+        es.pdfDirection = directionPdf(local);
         if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f)) return es;
         es.L = radianceAt(ps, d, lambda);
         return es;
@@ -146,7 +144,8 @@ public:
                      float& pdfDirection) const override {
         float area = m_shape ? m_shape->area() : 0.f;
         pdfPosition = area > 0.f ? 1.f / area : 0.f;
-        pdfDirection = m_warp ? directionPdf(Frame(n).toLocal(d)) : std::max(dot(n, d), 0.f) * InvPi;
+        // The default's density as it always was, cos θ/π read off dot(n, d) directly.
+        pdfDirection = m_warp.nested() ? directionPdf(Frame(n).toLocal(d)) : std::max(dot(n, d), 0.f) * InvPi;
         return true;
     }
 
@@ -156,13 +155,9 @@ public:
 private:
     std::string name() const { return typeName().empty() ? std::string("emitter 'area'") : typeName(); }
 
-    /// The nested warp's density of a direction in the normal's frame: zero at or below
-    /// the surface, and wherever it is not a finite positive number.
-    float directionPdf(const Vector3f& local) const {
-        if (!(local.z > 0.f)) return 0.f;
-        float pdf = m_warp->pdf(local);
-        return std::isfinite(pdf) && pdf > 0.f ? pdf : 0.f;
-    }
+    /// The warp's density of a direction in the normal's frame; zero at or below the
+    /// surface (the back side emits nothing).
+    float directionPdf(const Vector3f& local) const { return local.z > 0.f ? m_warp.pdf(local) : 0.f; }
 
     /// The unscaled radiance as a function of wavelength (constant textures only).
     std::function<float(float)> radiance() const {
@@ -196,7 +191,7 @@ private:
     float m_scale = 1.f;  // scale · luminance/power normalisation
     float m_luminance = 0.f;
     bool m_constant = false;  // the radiance is the same everywhere
-    Ref<IWarp> m_warp;        // null: the compiled-in cosine warp
+    DirectionWarp m_warp;     // the emission direction sampler
 };
 
 } // namespace

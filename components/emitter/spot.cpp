@@ -7,6 +7,12 @@
 // multiplies the intensity like a slide in a projector: the direction (x, y, z) in the
 // light's frame reads the texture at uv = ½ + ½ (x, y) / (z · tan(cutoff)), so the
 // cutoff cone touches the texture's edges. It is a delta light in position.
+// Emitted rays (light tracing, bdpt, photon maps) leave in directions drawn through a
+// warp (issue 14, effigi/render/warp_choice.hpp) in the light's frame (+z the axis): by
+// default the compiled-in code of warp `uniform_cone` with cos_cutoff = cos(cutoff_angle);
+// a nested `warp` (any warp onto the sphere of directions) replaces it in sampleEmission()
+// and pdfEmission(). Beyond the cutoff the light is dark, so any warp covering the cone
+// (e.g. `uniform_sphere`, or a wider `uniform_cone`) is unbiased.
 //
 // Parameters (Mitsuba 3's `spot`):
 //   intensity     spectrum (illuminant, default 1)  intensity on the axis [W sr^-1]
@@ -18,20 +24,23 @@
 //   luminance     float ≥ 0 (optional)   scale the intensity to this luminous intensity Y
 //   power         float ≥ 0 (optional)   scale the intensity to this radiant flux [W],
 //                 Φ = ∫ falloff dω · ∫ I dλ (the texture not counted)
+//   warp          nested warp (optional)  emission direction sampler; default uniform in the cone
 //
 // Reference: Mitsuba 3 `spot` (falloff curve); pbrt-v4 §12.1.3 (spotlights).
 #include "delta_light.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iemitter.hpp"
 #include "effigi/interfaces/itexture.hpp"
-#include "effigi/math/warp_functions.hpp"
 #include "effigi/render/scene_range.hpp"
+#include "effigi/render/warp_choice.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/emission_scale.hpp"
 #include "effigi/spectral/spectrum.hpp"
 
 namespace effigi {
 namespace {
+
+using DirectionWarp = WarpChoice<compiled_warp::UniformCone>;
 
 class SpotEmitter final : public Implements<IEmitter> {
 public:
@@ -52,6 +61,9 @@ public:
         EmissionScale::declare(s, "Scale the intensity to this luminous intensity", "W sr^-1",
                                "Scale the intensity so that the light emits this flux (texture not counted)");
         s.ignored("sampling_weight", "lights are chosen by effigi's own selection rule (noise only)");
+        DirectionWarp::declare(s, "Emission direction sampler (a warp onto the sphere of directions, +z the axis); "
+                                  "default: the code of warp `uniform_cone` with cos_cutoff = cos(cutoff_angle), "
+                                  "compiled in");
         // Cases of the emitter conformance suite (conformance/emitter_suite.cpp) and
         // tests/test_emitters_extra.cpp, extremes included.
         s.addConformance({"default", {}});
@@ -80,6 +92,7 @@ public:
             failAt(p.whereOf("beam_width"), "{}: beam_width {} exceeds cutoff_angle {} degrees", p.describe(),
                    p.getFloat("beam_width"), p.getFloat("cutoff_angle"));
         m_cosCutoff = std::cos(m_cutoff);
+        m_warp = DirectionWarp(p, compiled_warp::UniformCone{m_cosCutoff});
         m_beam = beam;
         // A hard edge (beam = cutoff) has no transition band: 0 keeps the ramp finite.
         m_invTransition = m_cutoff > beam ? 1.f / (m_cutoff - beam) : 0.f;
@@ -103,17 +116,17 @@ public:
     }
 
     EmissionSample sampleEmission(const Point2f&, const Point2f& uDir, const SampledWavelengths& lambda) const override {
-        Vector3f local = warp::squareToUniformCone(uDir, m_cosCutoff);
+        Vector3f local = m_warp.sample(uDir);
         Vector3f d = normalize(m_toLocal.inverse().vector(local));
-        return delta_light::emissionSample(m_position, d, m_axis, warp::squareToUniformConePdf(local, m_cosCutoff),
-                                           emitted(d, lambda));
+        return delta_light::emissionSample(m_position, d, m_axis, m_warp.pdf(local), emitted(d, lambda));
     }
 
-    /// Directions uniform in the cutoff cone about the axis.
+    /// Directions uniform in the cutoff cone about the axis (or the nested warp's, in the
+    /// light's frame). The cone's density needs only cos θ = axis·d, read as it always was.
     bool pdfEmission(const Point3f&, const Normal3f&, const Vector3f& d, float& pdfPosition,
                      float& pdfDirection) const override {
         pdfPosition = 1.f;
-        pdfDirection = warp::squareToUniformConePdf(Vector3f(0.f, 0.f, dot(m_axis, d)), m_cosCutoff);
+        pdfDirection = m_warp.pdf(m_warp.nested() ? normalize(m_toLocal.vector(d)) : Vector3f(0.f, 0.f, dot(m_axis, d)));
         return true;
     }
 
@@ -159,6 +172,7 @@ private:
     Vector3f m_axis{0.f, 0.f, 1.f};
     float m_cutoff = 0.f, m_beam = 0.f, m_cosCutoff = 1.f, m_invTransition = 0.f, m_uvFactor = 1.f;
     float m_coneSolidAngle = 0.f, m_luminance = 0.f;
+    DirectionWarp m_warp;  // the emission direction sampler, in the light's frame
 };
 
 } // namespace
