@@ -3,6 +3,8 @@
 // gathering at a peak, χ²/dof of its iterations near 1 on a smooth integrand, strata
 // split where the variance is, VEGAS beating plain Monte Carlo on peaks, and the Cornell
 // box rendered by `path` with either nested gives the same image mean as with `mean`.
+// Per-pixel adaptive sampling (`adaptive` mode pixels) and its benchmark against uniform
+// sampling: test_adaptive_pixels.cpp.
 // Every case is seeded (deterministic); the statistical bounds are stated with the
 // probability that a correct integrator fails them for a random seed.
 #include "scene_text.hpp"
@@ -15,14 +17,7 @@
 
 #include <catch2/catch.hpp>
 
-#include <sys/resource.h>
-
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 
 using namespace effigi;
 
@@ -275,7 +270,8 @@ std::pair<double, double> imageMean(const Rendered& r) {
 TEST_CASE("path with a nested vegas or adaptive integrator renders the Cornell box's mean", "[integrator][render]") {
     // 32² pixels, 64 spp (256 with a relative-error target, which can stop a pixel only
     // from its fourth round on; 512 for VEGAS, whose iterations hold >= 256 samples, so
-    // that its grid adapts and weighs samples by J). The image means must agree within 4 combined standard
+    // that its grid adapts and weighs samples by J; 128 for mode pixels, which spends half
+    // of that in a pilot and allocated parts). The image means must agree within 4 combined standard
     // errors (probability 6e-5 that correct integrators fail) and within 3 % (the images'
     // noise is about 0.8 %). A film that ignored the sample weights (VEGAS's J, the strata's
     // shares) or the early stops would be off by far more.
@@ -287,8 +283,9 @@ TEST_CASE("path with a nested vegas or adaptive integrator renders the Cornell b
         int spp;
     };
     const std::string target = "<integrator type=\"adaptive\"><float name=\"rel_error\" value=\"0.1\"/></integrator>";
+    const std::string pixels = "<integrator type=\"adaptive\"><string name=\"mode\" value=\"pixels\"/></integrator>";
     for (const Case& c : {Case{target, 256}, Case{"<integrator type=\"adaptive\"/>", 64},
-                          Case{"<integrator type=\"vegas\"/>", 512}}) {
+                          Case{"<integrator type=\"vegas\"/>", 512}, Case{pixels, 128}}) {
         const Rendered r = renderCornell(c.xml, 2, c.spp);
         const auto [mean, error] = imageMean(r);
         const std::uint64_t budget = 32u * 32u * std::uint64_t(c.spp);
@@ -297,104 +294,7 @@ TEST_CASE("path with a nested vegas or adaptive integrator renders the Cornell b
         CHECK(std::abs(mean - refMean) < 4.0 * std::hypot(error, refError));
         CHECK(std::abs(mean - refMean) < 0.03 * refMean);
         if (c.xml.find("rel_error") != std::string::npos) CHECK(r.stats.samples < budget * 9 / 10);  // 70 % measured
+        else if (c.xml == pixels) CHECK(std::abs(double(r.stats.samples) / double(budget) - 0.5) < 0.01);  // mean_share
         else CHECK(r.stats.samples == budget);
     }
-}
-
-// ---- measurement (hidden: run `test_integrators_adaptive "[.bench]"`) ------------------
-// The Cornell box (scenes/cornell-box/scene.xml, max_depth 8) at EFFIGI_BENCH_RES² (128)
-// against a reference of EFFIGI_BENCH_REF_SPP (4096) spp from `path` with `mean`: relMSE
-// against process CPU time (user + system, all threads) for uniform sampling (`mean`, in
-// the wavefront and in the one-path loop that every other integrator uses) and the
-// adaptive integrators, with and without a relative-error target. CPU time, not wall
-// time, because the machine may be shared. EFFIGI_BENCH_ONLY=text runs only the
-// configurations whose name contains it. Prints a table; asserts nothing.
-
-namespace {
-
-double cpuSeconds() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-int envInt(const char* name, int fallback) {
-    const char* v = std::getenv(name);
-    return v ? std::atoi(v) : fallback;
-}
-
-struct Timed {
-    Image image;
-    double cpu = 0.0, wall = 0.0;
-    std::uint64_t samples = 0;
-};
-
-Timed renderTimed(const std::string& pathXml, int res, int spp, std::uint64_t seed) {
-    auto scene = test::loadWithIntegrator(EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml", pathXml,
-                                          {{"spp", std::to_string(spp)}, {"res", std::to_string(res)}});
-    RenderControl control;
-    control.progress = false;
-    control.seed = seed;
-    Timed t;
-    const double c0 = cpuSeconds();
-    const auto w0 = std::chrono::steady_clock::now();
-    t.samples = scene->renderer().render(*scene, control).samples;
-    t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
-    t.cpu = cpuSeconds() - c0;
-    t.image = scene->camera().film().develop();
-    return t;
-}
-
-} // namespace
-
-TEST_CASE("bench: Cornell box, relMSE against CPU time, uniform against adaptive sampling", "[.bench]") {
-    const int res = envInt("EFFIGI_BENCH_RES", 128), refSpp = envInt("EFFIGI_BENCH_REF_SPP", 4096);
-    const std::string open = "<integrator type=\"path\"><integer name=\"max_depth\" value=\"$max_depth\"/>";
-    // The reference, cached as raw floats in out/bench/.
-    const std::string cache = EFFIGI_SOURCE_DIR "/out/bench/cornell-adaptive-ref-" + std::to_string(res) + "-" +
-                              std::to_string(refSpp) + ".f32";
-    Image ref;
-    if (std::ifstream in(cache, std::ios::binary); in) {
-        ref = renderTimed(open + "</integrator>", res, 1, 0).image;  // the layout
-        in.read(reinterpret_cast<char*>(ref.pixels.data()), std::streamsize(ref.pixels.size() * sizeof(float)));
-    } else {
-        Timed t = renderTimed(open + "</integrator>", res, refSpp, 1000);
-        std::printf("reference: %d spp in %.0f s CPU\n", refSpp, t.cpu);
-        ref = t.image;
-        std::filesystem::create_directories(EFFIGI_SOURCE_DIR "/out/bench");
-        std::ofstream(cache, std::ios::binary)
-            .write(reinterpret_cast<const char*>(ref.pixels.data()),
-                   std::streamsize(ref.pixels.size() * sizeof(float)));
-    }
-    struct Config {
-        std::string name, xml;
-        std::vector<int> spp;
-    };
-    const std::vector<int> ladder = {16, 32, 64, 128, 256, 512};
-    std::vector<Config> configs = {
-        {"mean (wavefront)", "", ladder},
-        {"mean (one path)", "<boolean name=\"wavefront\" value=\"false\"/>", ladder},
-        {"stratified", "<integrator type=\"stratified\"/>", ladder},
-        {"adaptive", "<integrator type=\"adaptive\"/>", ladder},
-        {"vegas", "<integrator type=\"vegas\"/>", ladder},
-    };
-    for (const char* e : {"0.3", "0.2", "0.1", "0.05", "0.03"})
-        configs.push_back({std::string("adaptive rel_error ") + e,
-                       "<integrator type=\"adaptive\"><float name=\"rel_error\" value=\"" + std::string(e) +
-                           "\"/></integrator>",
-                       {1024}});
-    std::printf("Cornell box %d², reference %d spp (mean); relMSE against it\n", res, refSpp);
-    std::printf("%-26s %6s %12s %10s %9s %9s\n", "configuration", "spp", "samples/px", "relMSE", "CPU s", "wall s");
-    const char* only = std::getenv("EFFIGI_BENCH_ONLY");  // a substring of the names to run
-    std::uint64_t seed = 1;
-    for (const Config& c : configs)
-        for (int spp : c.spp) {
-            ++seed;
-            if (only && c.name.find(only) == std::string::npos) continue;
-            Timed t = renderTimed(open + c.xml + "</integrator>", res, spp, seed);
-            const ErrorMetrics m = compareImages(t.image, ref);
-            std::printf("%-26s %6d %12.1f %10.3e %9.2f %9.2f\n", c.name.c_str(), spp,
-                        double(t.samples) / double(res * res), m.relMSE, t.cpu, t.wall);
-            std::fflush(stdout);
-        }
 }

@@ -19,11 +19,11 @@
 // error, √Σ V_s² σ_s² / n_s over Σ_c f_c; if it is ≤ rel_error · |estimate so far| ≠ 0,
 // that round is the last and the estimate that round alone: decided on earlier rounds
 // only, so unbiased (stopping once the estimated error is small biases low on peaks:
-// z = −4 in effigi-conform). A call then draws fewer samples than its budget: per-pixel
-// adaptive sampling in a renderer, whose film normalises each pixel by its samples'
-// weights V_s n_r / n_s (IWeightedSampler; all rounds count there); on the Cornell box it
-// loses to uniform sampling (1.3× the time to a relMSE). That round's error bar rests on
-// few samples per stratum: targets of 1–5 % cover 85–89 % on `step` (corner).
+// z = −4 in effigi-conform). A call then draws fewer samples than its budget; a renderer's
+// film normalises each pixel by its samples' weights V_s n_r / n_s (IWeightedSampler; all
+// rounds count there). That round's error bar rests on few samples per stratum: targets
+// of 1–5 % cover 85–89 % on `step` (corner). Per-pixel targets cannot pay on an image
+// (adaptive_pixels.hpp says why); mode "pixels" spreads a render pass over the pixels.
 //
 // D = min(dimension(), max_dimensions), or for integrands of open dimension (0: a pixel's
 // path space) the fewest dimensions any sample of the first round drew. Strata are never
@@ -33,9 +33,15 @@
 //   rel_error       float (default 0: off, in [0, 1])   relative error target
 //   min_samples     int (default 4, in [2, 4096])       samples per stratum and round
 //   max_dimensions  int (default 8, in [1, 64])         dimensions that are stratified
+//   mode            string (default strata)             strata | pixels (adaptive_pixels.hpp)
+//   mean_share      float (default 0.5, in [0.1, 0.9])  pixels: mean share of the budget spent
 //
 // References: W. H. Press, G. R. Farrar, Computers in Physics 4(2), 1990 (MISER); J. Neyman,
-// J. Royal Statistical Society 97(4), 1934; Pharr, Jakob, Humphreys, PBR 3rd ed., §7.1.
+// J. Royal Statistical Society 97(4), 1934; Pharr, Jakob, Humphreys, PBR 3rd ed., §7.1;
+// D. Kirk, J. Arvo, SIGGRAPH 1991 (mode pixels).
+#include "adaptive_pixels.hpp"
+#include "adaptive_strata.hpp"
+
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iintegrator.hpp"
 #include "effigi/interfaces/iintegrator_hooks.hpp"
@@ -54,81 +60,46 @@ namespace {
 
 constexpr double MinWidth = 1.0 / (1 << 20), SplitMin = 8, Defensive = 0.5;  // see above
 
-/// Running mean and sum of squared deviations of one value (Welford).
-struct Moments {
-    double n = 0, mean = 0, m2 = 0;
-    void add(double x) { const double d = x - mean; n += 1, mean += d / n, m2 += d * (x - mean); }
-    double variance() const { return n > 1 ? std::max(0.0, m2 / (n - 1)) : 0.0; }
-    double sigma() const { return std::sqrt(variance()); }
-};
-
-struct Stratum {
-    std::vector<double> lower, upper;  // over the D stratified dimensions
-    double volume = 1.0;
-    Moments seen;                // f (summed over channels) at the points below
-    std::vector<double> points;  // every sample it holds (its parent's in it too): x_0..x_{D-1}, f
-    std::uint64_t alloc = 0;
-};
-
-/// The integrand's view of the nested sampler: dimension j < D placed in the stratum.
-class StratumSampler final : public Implements<ISampler, IWeightedSampler> {
-public:
-    StratumSampler(ISampler& base, int dims) : m_base(base), m_x(std::size_t(dims)) {}
-    void place(const Stratum* s, double weight) { m_stratum = s, m_weight = weight; }
-    int samplesPerPixel() const override { return m_base.samplesPerPixel(); }
-    void startPixel(const Point2i& p) override { m_base.startPixel(p); }
-    void startSample(std::uint64_t index) override { m_base.startSample(index), m_dim = 0; }
-    float get1D() override { return map(m_base.get1D()); }
-    Point2f get2D() override { const float x = get1D(); return {x, get1D()}; }
-    Point2f getPixel2D() override {
-        const Point2f p = m_base.getPixel2D();
-        const float x = map(p.x);
-        return {x, map(p.y)};
-    }
-    Ref<ISampler> clone(std::uint64_t) const override { fail("integrator 'adaptive': its sampler cannot be cloned"); }
-    double sampleWeight() const override { return m_weight; }
-    int drawn() const { return m_dim; }
-    double x(int j) const { return m_x[std::size_t(j)]; }
-
-private:
-    float map(float y) {
-        const int j = m_dim++;
-        if (std::size_t(j) >= m_x.size() || std::size_t(j) >= m_stratum->lower.size()) return y;
-        const float lo = float(m_stratum->lower[std::size_t(j)]), hi = float(m_stratum->upper[std::size_t(j)]);
-        float u = std::max(lo, float(double(lo) + double(hi - lo) * double(y)));  // lo, hi dyadic: exact
-        if (u >= hi) u = std::nextafter(hi, 0.f);
-        m_x[std::size_t(j)] = u;
-        return u;
-    }
-
-    ISampler& m_base;
-    const Stratum* m_stratum = nullptr;
-    std::vector<double> m_x;
-    double m_weight = 1.0;
-    int m_dim = 0;
-};
-
-class AdaptiveIntegrator final : public Implements<IIntegrator> {
+class AdaptiveIntegrator final : public Implements<IIntegrator, IPixelAllocator> {
 public:
     static Schema schema() {
         Schema s("integrator", "adaptive",
-                 "Adaptive stratification in rounds (MISER-like), optional relative-error target.");
-        s.cite("W. H. Press, G. R. Farrar, Computers in Physics 4(2), 1990 (MISER); Neyman 1934");
+                 "Adaptive stratification in rounds (MISER-like), optional relative-error target; or "
+                 "per-pixel adaptive sampling (mode pixels).");
+        s.cite("W. H. Press, G. R. Farrar, Computers in Physics 4(2), 1990 (MISER); Neyman 1934; Kirk & Arvo 1991");
         s.real("rel_error", 0.0, "Stop once the relative standard error is below this (0: use the budget)")
             .range(0.0, 1.0);
         s.integer("min_samples", 4, "Samples every stratum gets in every round").range(2, 4096);
         s.integer("max_dimensions", 8, "How many leading dimensions are stratified").range(1, 64);
+        s.string("mode", "strata",
+                 "strata: stratify each integral; pixels: spread a render pass's samples over the pixels by their "
+                 "relative variance (n ∝ σ/μ), plain Monte Carlo inside each")
+            .oneOf({"strata", "pixels"});
+        s.real("mean_share", 0.5, "Mode pixels: the share of the budget (spp) a pixel spends on average, none more "
+                                  "than the budget (below 32 samples a pixel on average: uniform)")
+            .range(0.1, 0.9);
         s.addConformance({"default", {}});
         s.addConformance({"min_samples 2", {{"min_samples", std::int64_t(2)}}});
         s.addConformance({"min_samples 1000", {{"min_samples", std::int64_t(1000)}}});
         s.addConformance({"max_dimensions 1", {{"max_dimensions", std::int64_t(1)}}});
         s.addConformance({"rel_error 0.003", {{"rel_error", 0.003}}});
+        s.addConformance({"mode pixels", {{"mode", std::string("pixels")}}});
         return s;
     }
 
     explicit AdaptiveIntegrator(const Properties& p)
         : m_relError(p.getFloat("rel_error")), m_min(std::uint64_t(p.getInt("min_samples"))),
-          m_maxDims(int(p.getInt("max_dimensions"))) {}
+          m_maxDims(int(p.getInt("max_dimensions"))), m_pixels(p.getString("mode") == "pixels"),
+          m_allocation(p.getFloat("mean_share")) {
+        if (m_pixels && m_relError > 0.0)
+            failAt(p.whereOf("rel_error"), "integrator 'adaptive': rel_error applies to mode 'strata' only");
+    }
+
+    Plan plan(std::uint64_t budget) const override { return m_pixels ? m_allocation.plan(budget) : Plan{}; }
+    void allocate(std::span<const PixelPilot> pilots, int width, int height, std::uint64_t budget,
+                  std::vector<std::uint64_t>& counts) const override {
+        m_allocation.allocate(pilots, width, height, budget, counts);
+    }
 
     Estimate integrate(IFunction& f, ISampler& sampler, std::uint64_t firstIndex, std::uint64_t count) const override {
         const int channels = f.channels();
@@ -139,6 +110,11 @@ public:
         e.channels = channels;
         if (count == 0) return e;
         IIntegrationObserver* observer = query<IIntegrationObserver>(&f);
+        if (m_pixels) {
+            e = PixelAllocation::integrate(f, sampler, firstIndex, count);
+            if (observer) observer->integrated(IntegrationReport{{e}});
+            return e;
+        }
         std::vector<std::uint64_t> sizes{std::min(count, std::max(2 * m_min, (count + 63) / 64))};
         for (std::uint64_t rest = count - sizes[0], next = 2 * sizes[0]; rest > 0; next *= 2) {
             const std::uint64_t n = rest > 2 * next ? next : rest;
@@ -292,6 +268,8 @@ private:
     double m_relError;
     std::uint64_t m_min;
     int m_maxDims;
+    bool m_pixels;
+    PixelAllocation m_allocation;
 };
 
 } // namespace

@@ -13,11 +13,20 @@
 // IIntegrationObserver — implemented by an integrand that wants to know what an adaptive
 // integrator did (tests, effigi-conform, diagnostics): its stages (iterations, rounds),
 // their consistency (χ²/dof, Lepage 1978), the VEGAS grid, the strata.
+//
+// IPixelAllocator — implemented by an integrator that spreads a render pass's samples
+// unevenly over the image (per-pixel adaptive sampling), which one pixel's integral cannot
+// do alone. A renderer that knows it (renderSampled) draws a pass in two parts: a pilot of
+// the same count in every pixel, then the counts allocate() gives each pixel from all the
+// pilots. The two parts of a pixel weigh into it by shares fixed before either is drawn,
+// so the pixel stays unbiased however the counts depend on the pilot (Kirk & Arvo 1991);
+// and every pixel weighs into its neighbours as if it had drawn the whole budget.
 #include "effigi/interfaces/iintegrator.hpp"
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace effigi {
@@ -82,6 +91,29 @@ public:
 
     /// Called once at the end of each integrate() call by integrators that report.
     virtual void integrated(const IntegrationReport& report) = 0;
+};
+
+/// What a pixel's pilot found: the mean of its linear sRGB and the variance of that mean.
+struct PixelPilot {
+    float mean[3] = {0.f, 0.f, 0.f}, variance[3] = {0.f, 0.f, 0.f};
+    std::uint32_t samples = 0;
+};
+
+class IPixelAllocator : public virtual IComponent {
+public:
+    static constexpr InterfaceId IID = interfaceId("IPixelAllocator");
+    static constexpr const char* Tag = "integrator";
+
+    struct Plan {
+        std::uint64_t pilot = 0;  ///< samples every pixel draws first; 0: one uniform part
+        double pilotShare = 0.0;  ///< the pilot's weight in each pixel, the rest 1 − it
+    };
+    /// How a pass of `budget` samples a pixel (indices [first, first + budget)) is split.
+    virtual Plan plan(std::uint64_t budget) const = 0;
+    /// For each pixel of the width × height pilots (row-major), how many samples it draws
+    /// after its pilot: 1 to budget − pilot, so that its indices stay within the pass's.
+    virtual void allocate(std::span<const PixelPilot> pilots, int width, int height, std::uint64_t budget,
+                          std::vector<std::uint64_t>& counts) const = 0;
 };
 
 } // namespace effigi
