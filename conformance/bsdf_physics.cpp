@@ -183,9 +183,12 @@ void checkDelta(Target& t, const IBSDF& b) {
         }
         if (bs->flags & BSDFNull) {
             // The pass-through lobe: wi = −wo exactly, and its value is the transmission
-            // shadow rays use: f·|cos θ| = evalNullTransmission().
+            // shadow rays use: f·|cos θ| = evalNullTransmission() for a ray crossing along
+            // −wo (which it reads from si.wo, as a renderer's hit sets it).
             expected = -wo;
-            SampledSpectrum tn = b.evalNullTransmission(si, l);
+            SurfaceInteraction crossing = si;
+            crossing.wo = si.toWorld(wo);
+            SampledSpectrum tn = b.evalNullTransmission(crossing, l);
             double e = relativeError(double(bs->f[0]) * std::abs(bs->wi.z), tn[0], 1e-6);
             if (!(e <= 1e-4)) bad(fmt::format("wo = {}: null sample f·|cos| = {}, evalNullTransmission = {}", vec(wo),
                                               bs->f[0] * std::abs(bs->wi.z), tn[0]));

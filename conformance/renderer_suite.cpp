@@ -47,6 +47,8 @@ struct Declaration {
 };
 const Declaration Unbiased[] = {
     {"path", "Monte Carlo path tracing; Russian roulette reweights the survivors (Veach 1997, ch. 9)"},
+    {"volpath", "path tracing with delta tracking and spectral MIS (Miller et al. 2019); on the suite's surface "
+                "scenes the same estimator as path with the balance heuristic"},
     {"direct", "MIS-weighted emitter and BSDF samples of direct lighting (Veach & Guibas 1995)"},
     {"ptracer", "light tracing with camera connections (Veach 1997, §4.A)"},
     {"pssmlt", "Kelemen's expected-value splatting from bootstrap-resampled starts (Kelemen et al. 2002)"},

@@ -17,6 +17,7 @@ packages=(
   libtinyobjloader-dev # OBJ meshes
   libfmt-dev           # formatting
   zlib1g-dev           # Mitsuba .serialized meshes
+  libopenvdb-dev libboost-dev  # .vdb grid volumes (volume/vdbvolume only; OpenVDB's headers need Boost's)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # `make fuzz`: libFuzzer + ASan/UBSan (the fuzz preset)
 )
 

@@ -13,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -43,7 +44,7 @@ void regionStats(int w, int h, const Region& r, int c, const At& at, const std::
     stderror = std::sqrt(v) / n;
 }
 
-/// Renders `scene` (relative to the source tree) with `defines` and checks every region's
+/// Renders `scene` (relative to the source tree, or absolute) with `defines` and checks every region's
 /// R, G, B means against `reference`: |ours − ref| / ref < margin + 4 standard errors
 /// (two-sided false alarm 6e-5 per comparison; the render is seeded, so the outcome is
 /// deterministic). The reference's own noise (4096 spp) is negligible. `maxTol` bounds the
@@ -54,7 +55,8 @@ inline void compareWithReference(const std::string& scene, const std::string& re
                                  std::uint64_t seed = 0) {
     xml::ParseOptions opt;
     for (const auto& [k, v] : defines) opt.defines[k] = v;
-    auto s = loadSceneFile(std::string(EFFIGI_SOURCE_DIR) + "/" + scene, opt);
+    // Relative to the source tree; an absolute path (a corpus checkout) as it is.
+    auto s = loadSceneFile(std::filesystem::path(EFFIGI_SOURCE_DIR) / scene, opt);
     RenderControl control;
     control.progress = false;
     control.seed = seed;
@@ -63,7 +65,7 @@ inline void compareWithReference(const std::string& scene, const std::string& re
     Image img = s->camera().film().develop();
     std::vector<float> var;
     REQUIRE(s->renderer().varianceEstimate(var));  // the pixel estimates' own variances
-    ExrImage ref = readExr(std::string(EFFIGI_SOURCE_DIR) + "/" + reference);
+    ExrImage ref = readExr(std::filesystem::path(EFFIGI_SOURCE_DIR) / reference);
     REQUIRE(ref.spec.width == img.width);
     REQUIRE(ref.spec.height == img.height);
     for (const Region& r : regions)

@@ -153,9 +153,11 @@ TEST_CASE("whitted: a receiver seen in a mirror shows R rho/pi I cos / d^2", "[w
     // R = 0.8) through (0, 10, 0) facing (1, 0, 1)/√2: its rays turn to +x and meet the
     // receiver x = 10 (facing −x, ρ = 0.5) at (10, 10 + y, z), |y|, |z| ≤ 0.01, lit by a
     // point light I = 10 at (5, 10, 0): E = I · 5 / d³, d² = 25 + y² + z², within 1.2e-5 of
-    // I / 25. (The scene sits away from the origin: surface points near it get a ray
-    // offset of 7.6e-6 |p| (offsetRayOrigin), below the float error of a hit point
-    // reached from 20 away, so reflected rays there would hit the mirror again.)
+    // I / 25. The same scene moved down to put the mirror through the world origin must
+    // give the same: rays leave a hit point pushed off by the magnitude of the triangle's
+    // vertices (SurfaceInteraction::pScale), not of the point itself, which near the
+    // origin is smaller than the point's rounding error (they used to hit the mirror
+    // again and lose ~30 % of the light).
     const std::string body = R"(
   <shape type="rectangle"><transform name="to_world"><scale value="2"/><rotate y="1" angle="45"/>
     <translate value="0, 10, 0"/></transform>
@@ -172,6 +174,17 @@ TEST_CASE("whitted: a receiver seen in a mirror shows R rho/pi I cos / d^2", "[w
                     << (s.mean - expected) / expected);
     CHECK(std::abs(s.mean - expected) < 4 * s.se + 1.2e-5 * expected);
     CHECK(s.se < 1e-3 * expected);
+    std::string atOrigin = body;
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"0, 10, 0", "0, 0, 0"}, {"10, 10, 0", "10, 0, 0"},
+                                   {R"(y="10")", R"(y="0")"}}) {
+        const auto at = atOrigin.find(from);
+        REQUIRE(at != std::string::npos);
+        atOrigin.replace(at, from.size(), to);
+    }
+    Rendered o = renderOrtho(Whitted, "0, 0, 20", "0, 0, 0", atOrigin, 64);
+    Stats so = imageStats(o.image);
+    INFO("mirror through the origin: " << so.mean << " ± " << so.se);
+    CHECK(std::abs(so.mean - expected) < 4 * so.se + 1.2e-5 * expected);
 
     // max_depth 2 stops at the mirror (it has no non-delta part to light): black.
     Rendered shallow = renderOrtho(R"(<integrator type="whitted"><integer name="max_depth" value="2"/></integrator>)",

@@ -322,7 +322,7 @@ TEST_CASE("xml compat: effigi render --dry-run loads without rendering", "[xml][
     fs::remove_all(dir);
 }
 
-TEST_CASE("xml compat: Mitsuba's volpath and volpathmis read as path while there are no media", "[xml]") {
+TEST_CASE("xml compat: Mitsuba's volpathmis is read as volpath, top-level and nested", "[xml]") {
     for (const char* type : {"volpath", "volpathmis"}) {
         auto root = parseString(std::string(R"(<scene version="3.0.0">
     <integrator type="moment"><integrator type=")") + type + R"("><integer name="max_depth" value="3"/></integrator></integrator>
@@ -336,6 +336,6 @@ TEST_CASE("xml compat: Mitsuba's volpath and volpathmis read as path while there
         auto top = parseString(std::string(R"(<scene version="3.0.0"><integrator type=")") + type + R"("/>
     )" + kCamera + R"(<shape type="sphere"/></scene>)",
                                "volpath_top.xml");
-        CHECK(loadScene(*top)->renderer().typeName() == "renderer/path");
+        CHECK(loadScene(*top)->renderer().typeName() == "renderer/volpath");
     }
 }

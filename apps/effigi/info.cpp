@@ -30,6 +30,7 @@ std::string valueText(const PropertyValue& v) {
 std::string typeText(const ParamSpec& p) {
     if (p.ignored) return "ignored";
     if (p.type == ParamType::Component) return p.multiple ? p.componentTag + " (any number)" : p.componentTag;
+    if (p.type == ParamType::Texture && p.componentTag == "volume") return "volume";
     return paramTypeName(p.type);
 }
 

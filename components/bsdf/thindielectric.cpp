@@ -11,6 +11,12 @@
 // direction does not depend on λ, so a spectral index needs no wavelength termination, and
 // a straight pass has no net change of medium, hence no η² radiance scaling.
 //
+// The straight pass is a pass-through (BSDFNull) lobe, as in Mitsuba 3: the surface is an
+// index-matched interface for it, so renderers do not count the crossing as a bounce and
+// shadow rays cross the pane weighted by evalNullTransmission() = T'·specular_transmittance
+// at the shadow ray's angle. A medium sealed in a thin-walled container (Mitsuba's
+// volpath scenes) then gets direct light through the wall.
+//
 // Parameters (as Mitsuba 3): int_ior, ext_ior (float, spectrum or name, as for
 // `dielectric`), specular_reflectance, specular_transmittance (textures, default 1).
 //
@@ -18,6 +24,7 @@
 // plane-parallel plate, incoherent sum).
 #include "delta_bsdf.hpp"
 #include "dielectric_ior.hpp"
+#include "null_lobe.hpp"
 
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
@@ -40,7 +47,7 @@ public:
         : m_eta(relativeIOR(p)), m_reflectance(p.getTexture("specular_reflectance", SpectrumKind::Reflectance)),
           m_transmittance(p.getTexture("specular_transmittance", SpectrumKind::Reflectance)) {}
 
-    std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular; }
+    std::uint32_t flags() const override { return BSDFReflection | BSDFTransmission | BSDFSpecular | BSDFNull; }
 
     std::optional<BSDFSample> sample(const SurfaceInteraction& si, const Vector3f& wo, float uc, const Point2f&,
                                      SampledWavelengths& lambda, TransportMode) const override {
@@ -55,22 +62,22 @@ public:
                 ++live;
             }
         float P = sum / float(live);
-        float absCos = std::max(std::abs(wo.z), 1e-30f);
 
+        if (!(uc < P))
+            return nullLobeSample(wo, 1.f - P, (SampledSpectrum(1.f) - R) * m_transmittance->eval(si, lambda));
         BSDFSample bs;
-        if (uc < P) {
-            bs.wi = reflectLocal(wo);
-            bs.pdf = P;
-            bs.flags = BSDFReflection | BSDFSpecular;
-            bs.f = R * m_reflectance->eval(si, lambda) * (1.f / absCos);
-        } else {
-            bs.wi = -wo;
-            bs.pdf = 1.f - P;
-            bs.flags = BSDFTransmission | BSDFSpecular;
-            bs.eta = 1.f;
-            bs.f = (SampledSpectrum(1.f) - R) * m_transmittance->eval(si, lambda) * (1.f / absCos);
-        }
+        bs.wi = reflectLocal(wo);
+        bs.pdf = P;
+        bs.flags = BSDFReflection | BSDFSpecular;
+        bs.f = R * m_reflectance->eval(si, lambda) * (1.f / std::max(std::abs(wo.z), 1e-30f));
         return bs;
+    }
+
+    /// What a straight crossing keeps: T' at the crossing ray's angle (si.wo), times
+    /// specular_transmittance.
+    SampledSpectrum evalNullTransmission(const SurfaceInteraction& si, const SampledWavelengths& lambda) const override {
+        const float cosTheta = std::abs(si.toLocal(si.wo).z);
+        return (SampledSpectrum(1.f) - slabReflectance(cosTheta, lambda)) * m_transmittance->eval(si, lambda);
     }
 
     /// R' + T' at normal incidence, with the factors.

@@ -11,6 +11,7 @@
 #include "effigi/interfaces/icamera.hpp"
 #include "effigi/interfaces/icamera_importance.hpp"
 #include "effigi/interfaces/ifilm.hpp"
+#include "effigi/interfaces/imedium.hpp"
 #include "effigi/interfaces/isampler.hpp"
 
 #include <cmath>
@@ -29,12 +30,13 @@ template <typename I> Ref<I> nestedOrDefault(const Properties& p, const std::str
     return obj;
 }
 
-/// near_clip, far_clip, film, sampler.
+/// near_clip, far_clip, film, sampler, medium.
 inline void addCommonParams(Schema& s, const char* nearDoc) {
     s.real("near_clip", 1e-2, nearDoc).atLeast(0.0).withUnit("scene units");
     s.real("far_clip", 1e4, "Far clip distance (> near_clip); camera rays end there").atLeast(0.0).withUnit("scene units");
     s.child("film", "film", "Film the image is accumulated on (default: hdrfilm)");
     s.child("sampler", "sampler", "Sample generator (default: independent)");
+    s.child("medium", "medium", "Participating medium the camera is in (optional; volpath)");
 }
 
 /// fov (with a default, or none: then focal_length decides), fov_axis, focal_length.
@@ -142,12 +144,13 @@ public:
     const Transform& toWorld() const override { return m_toWorld; }
     IFilm& film() const override { return *m_film; }
     ISampler& sampler() const override { return *m_sampler; }
+    const IMedium* medium() const override { return m_medium.get(); }
 
 protected:
     explicit ProjectiveCamera(const Properties& p)
         : m_toWorld(p.getTransform("to_world")),
           m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
-          m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")) {
+          m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")), m_medium(p.get<IMedium>("medium")) {
         readClip(p, m_near, m_far);
         m_toLocal = m_toWorld.inverse();  // non-finite for a singular to_world, which derived cameras reject
     }
@@ -155,6 +158,7 @@ protected:
     Transform m_toWorld, m_toLocal;
     Ref<IFilm> m_film;
     Ref<ISampler> m_sampler;
+    Ref<IMedium> m_medium;
     float m_near = 1e-2f, m_far = 1e4f;
 };
 

@@ -66,8 +66,8 @@ struct Context {
     /// transmittance in scenes that have them.
     SampledSpectrum transmittance(const Vertex& a, const Vertex& b, const SampledWavelengths& lambda) const {
         Vector3f d = b.p() - a.p();
-        Point3f o = a.onSurface ? offsetRayOrigin(a.p(), a.si.n, d) : a.p();
-        Point3f target = b.onSurface ? offsetRayOrigin(b.p(), b.si.n, -d) : b.p();
+        Point3f o = a.onSurface ? a.si.offsetOrigin(d) : a.p();
+        Point3f target = b.onSurface ? b.si.offsetOrigin(-d) : b.p();
         Ray ray{o, target - o, 1.f - ShadowEpsilon};
         if (scene.hasNullBSDFs()) return scene.transmittance(ray, lambda);
         return SampledSpectrum(scene.occluded(ray) ? 0.f : 1.f);

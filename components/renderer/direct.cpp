@@ -60,6 +60,8 @@ public:
         m_fracBsdf = float(m_bsdfSamples) / sum;
     }
 
+    MediaSupport mediaSupport() const override { return MediaSupport::Ignores; }  // as Mitsuba's direct
+
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float*) const override {
         SurfaceInteraction si;

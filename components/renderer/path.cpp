@@ -60,6 +60,8 @@ public:
         return renderPathWavefront(scene, control, integrator, m_variance);
     }
 
+    MediaSupport mediaSupport() const override { return MediaSupport::Ignores; }  // as Mitsuba's path
+
     /// One camera sample (ISampleRenderer): what moment and aov nest.
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float*) const override {

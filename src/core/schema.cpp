@@ -81,6 +81,11 @@ ParamSpec& Schema::texture(const std::string& name, float def, SpectrumKind kind
     p.componentTag = "texture";
     return p;
 }
+ParamSpec& Schema::volume(const std::string& name, float def, SpectrumKind kind, std::string doc) {
+    ParamSpec& p = texture(name, def, kind, std::move(doc));
+    p.componentTag = "volume";
+    return p;
+}
 ParamSpec& Schema::optional(const std::string& name, ParamType type, std::string doc) {
     return add(makeSpec(name, type, std::nullopt, std::move(doc)));
 }
@@ -116,7 +121,8 @@ bool accepts(const ParamSpec& spec, const PropertyValue& v) {
     case ParamType::Vector: return is((PointValue*)nullptr) || is((VectorValue*)nullptr);
     case ParamType::Transform: return is((Transform*)nullptr);
     case ParamType::Texture:
-        if (auto* c = std::get_if<ComponentValue>(&v)) return c->tag == "texture";
+        if (auto* c = std::get_if<ComponentValue>(&v))
+            return c->tag == (spec.componentTag.empty() ? std::string("texture") : spec.componentTag);
         [[fallthrough]];
     case ParamType::Spectrum:
         return is((double*)nullptr) || is((std::int64_t*)nullptr) || is((RGBValue*)nullptr) ||
@@ -143,7 +149,8 @@ std::string expectedText(const ParamSpec& spec) {
     case ParamType::Vector: return "a vector";
     case ParamType::Transform: return "a transform";
     case ParamType::Spectrum: return "a float, rgb or spectrum";
-    case ParamType::Texture: return "a float, rgb, spectrum or texture";
+    case ParamType::Texture:
+        return "a float, rgb, spectrum or " + (spec.componentTag.empty() ? std::string("texture") : spec.componentTag);
     case ParamType::Component: return "a nested " + spec.componentTag;
     }
     return "?";

@@ -13,6 +13,7 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
     : m_shapes(std::move(shapes)), m_emitters(std::move(emitters)), m_camera(std::move(camera)),
       m_accel(std::move(accel)), m_renderer(std::move(renderer)) {
     if (!m_camera) fail("scene has no camera");
+    m_hasMedia = m_camera->medium() != nullptr;
     if (!m_accel) fail("scene has no accelerator");
     if (!m_renderer) fail("scene has no renderer");
 
@@ -26,6 +27,7 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
         m_bbox.expand(s->bbox());
         if (const IEmitter* e = s->emitter()) m_emitterPtrs.push_back(e);
         if (const IBSDF* b = s->bsdf(); b && b->hasNull()) m_hasNull = true;
+        if (s->isMediumTransition()) m_hasMedia = true;
     }
     // A top-level emitter that a shape references (Mitsuba's <emitter id="x"/> ... <ref
     // id="x"/> inside a shape) is that shape's emitter: listing it twice would double its
@@ -55,7 +57,7 @@ SampledSpectrum Scene::transmittance(Ray ray, const SampledWavelengths& lambda) 
         if (T.isBlack()) return T;
         // On along the same line from just beyond the surface; the parameter left shrinks
         // by the distance covered (d is the same vector, so t values carry over).
-        Ray next{offsetRayOrigin(si.p, si.n, ray.d), ray.d, ray.tMax - si.t};
+        Ray next{si.offsetOrigin(ray.d), ray.d, ray.tMax - si.t};
         if (!(next.tMax > 0.f)) return T;
         ray = next;
     }

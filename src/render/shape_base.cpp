@@ -16,6 +16,8 @@ void ShapeBase::addCommonParams(Schema& s) {
     s.transform("to_world", "Object-to-world transform");
     s.child("bsdf", "bsdf", "Surface scattering (default: a diffuse BSDF)");
     s.child("emitter", "emitter", "Area emitter that makes this shape a light (optional)");
+    s.child("medium", "interior", "Participating medium inside the surface (optional; a medium boundary)");
+    s.child("medium", "exterior", "Participating medium outside the surface (optional; a medium boundary)");
     s.boolean("flip_normals", false, "Turn the surface inside out: normals point the other way");
 }
 
@@ -30,6 +32,8 @@ ShapeBase::ShapeBase(const Properties& props) {
     }
     m_emitter = props.get<IEmitter>("emitter");
     if (m_emitter) m_emitterWhere = props.whereOf("emitter");
+    m_interior = props.get<IMedium>("interior");
+    m_exterior = props.get<IMedium>("exterior");
 }
 
 void ShapeBase::attachEmitter() {
@@ -141,6 +145,7 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
 
     // From the barycentrics rather than o + t·d: exact on the triangle's plane.
     si.p = b0 * p0 + b1 * p1 + b2 * p2;
+    si.pScale = std::max({maxAbsComponent(p0), maxAbsComponent(p1), maxAbsComponent(p2)});
     si.t = hit.t;
     si.prim = hit.prim;
     si.primUV = hit.uv;

@@ -83,19 +83,18 @@ struct Builder {
     }
 
     /// Renderer names effigi reads as another renderer (same parameters), each said once
-    /// at -v. Mitsuba's volumetric path tracers are its path tracer plus participating
-    /// media: effigi has no media yet (a scene that declares one fails on its <medium>),
-    /// and its `path` already crosses null interfaces as volpath does. `lighttracer`
-    /// (particle tracing connected to the camera) is Mitsuba's `ptracer`, the light-path
-    /// walk photon mapping also uses (light_path.hpp).
+    /// at -v. Mitsuba's `volpathmis` (spectral MIS over the wavelengths that sample
+    /// distances) is what effigi's `volpath` always does. `lighttracer` (particle tracing
+    /// connected to the camera) is Mitsuba's `ptracer`, the light-path walk photon mapping
+    /// also uses (light_path.hpp).
     struct RendererAlias {
         const char* name;
         const char* as;
         const char* why;
     };
-    static constexpr RendererAlias RendererAliases[] = {{"volpath", "path", "no participating media"},
-                                                        {"volpathmis", "path", "no participating media"},
-                                                        {"lighttracer", "ptracer", "the same particle tracer"}};
+    static constexpr RendererAlias RendererAliases[] = {
+        {"volpathmis", "volpath", "volpath samples distances with spectral MIS already"},
+        {"lighttracer", "ptracer", "the same particle tracer"}};
     std::string typeFor(const std::string& tag, const std::string& type) const {
         if (tag != "renderer" || registry.knows(tag, type)) return type;
         static std::once_flag said[std::size(RendererAliases)];
@@ -185,6 +184,22 @@ Ref<IComponent> instantiate(const xml::Node& node, Registry& registry,
     return b.build(node, nullptr);
 }
 
+/// A scene with participating media and a renderer that cannot render them: an error
+/// for those that would give a wrong image, a warning for those that ignore media as
+/// Mitsuba's `path` and `direct` do.
+static void checkMediaSupport(const IRenderer& renderer, const SourceLocation& where) {
+    const std::string name = renderer.typeName();
+    switch (renderer.mediaSupport()) {
+    case IRenderer::MediaSupport::Renders: return;
+    case IRenderer::MediaSupport::Ignores:
+        log::warn("{}: {} ignores the scene's participating media (as Mitsuba's does); volpath renders them",
+                  where.str(), name);
+        return;
+    case IRenderer::MediaSupport::Refuses:
+        failAt(where, "{} does not render participating media, and the scene has a <medium>: use volpath", name);
+    }
+}
+
 std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
     if (root.tag != "scene") failAt(root.where, "expected a <scene> element, got <{}>", root.tag);
     Builder builder{registry, {}, {}, {}};
@@ -250,6 +265,7 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
     auto scene = std::make_unique<Scene>(std::move(shapes), std::move(emitters), std::move(camera), std::move(accel),
                                          std::move(renderer));
     scene->sourceFile = root.where.file;
+    if (scene->hasMedia()) checkMediaSupport(scene->renderer(), rendererAt.known() ? rendererAt : root.where);
     return scene;
 }
 

@@ -23,7 +23,7 @@ struct ParamSpec {
     std::optional<double> min, max;
     std::vector<std::string> choices;   // String: allowed values
     SpectrumKind spectrumKind = SpectrumKind::Reflectance;
-    std::string componentTag;           // Component: the accepted tag
+    std::string componentTag;           // Component, Texture: the accepted tag ("texture" if empty)
     bool required = false;
     bool multiple = false;              // Component: any number of unnamed children
     bool acceptsName = false;           // Float/Spectrum: a <string> (a named value) is accepted too
@@ -85,6 +85,9 @@ public:
     ParamSpec& spectrum(const std::string& name, float def, SpectrumKind kind, std::string doc);
     /// Spectral value or nested texture.
     ParamSpec& texture(const std::string& name, float def, SpectrumKind kind, std::string doc);
+    /// Spectral value or nested <volume> (a 3-D texture: a heterogeneous medium's
+    /// sigma_t and albedo); type Texture with componentTag "volume".
+    ParamSpec& volume(const std::string& name, float def, SpectrumKind kind, std::string doc);
     /// A parameter without a default that may be omitted (e.g. an optional nested part).
     ParamSpec& optional(const std::string& name, ParamType type, std::string doc);
     /// A nested component; `name` is also the name unnamed children of this tag get.

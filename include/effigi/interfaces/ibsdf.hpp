@@ -64,8 +64,9 @@ public:
     /// The default integrates f numerically with fixed stratified samples.
     virtual SampledSpectrum albedo(const SurfaceInteraction& si, const SampledWavelengths& lambda) const;
 
-    /// Weight of the pass-through (BSDFNull) part for a ray crossing the surface straight:
-    /// 1 for `null`, 1 − opacity for `mask`, 0 (the default) for an opaque surface.
+    /// Weight of the pass-through (BSDFNull) part for a ray crossing the surface straight
+    /// along −si.wo: 1 for `null`, 1 − opacity for `mask`, the slab's transmittance at that
+    /// angle for `thindielectric`, 0 (the default) for an opaque surface.
     virtual SampledSpectrum evalNullTransmission(const SurfaceInteraction& si,
                                                  const SampledWavelengths& lambda) const {
         (void)si;

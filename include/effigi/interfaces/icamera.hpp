@@ -9,6 +9,7 @@
 namespace effigi {
 
 class IFilm;
+class IMedium;
 class ISampler;
 
 struct CameraSample {
@@ -30,6 +31,9 @@ public:
     virtual const Transform& toWorld() const = 0;
     virtual IFilm& film() const = 0;
     virtual ISampler& sampler() const = 0;
+    /// The participating medium the camera sits in (Mitsuba's nested `<medium>` of a
+    /// sensor); null is vacuum.
+    virtual const IMedium* medium() const { return nullptr; }
 };
 
 } // namespace effigi

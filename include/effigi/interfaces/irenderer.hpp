@@ -59,6 +59,13 @@ public:
 
     virtual RenderStats render(const Scene& scene, const RenderControl& control) = 0;
 
+    /// What the renderer does with a scene's participating media (Scene::hasMedia()):
+    /// refuses the scene (the loader reports it), ignores the media as Mitsuba's surface
+    /// integrators do (boundaries are crossed as their BSDFs say; the loader warns), or
+    /// renders them.
+    enum class MediaSupport { Refuses, Ignores, Renders };
+    virtual MediaSupport mediaSupport() const { return MediaSupport::Refuses; }
+
     /// The renderer's own estimate of its error so far: for every pixel of the film
     /// (crop, row-major) and each of R, G, B (linear, the film's colour space before
     /// output), the variance of the pixel's value — 3 floats per pixel. False when the

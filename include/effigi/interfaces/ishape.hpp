@@ -12,6 +12,7 @@ namespace effigi {
 
 class IBSDF;
 class IEmitter;
+class IMedium;
 
 struct PositionSample {
     Point3f p{0.f};
@@ -54,6 +55,14 @@ public:
     virtual const IBSDF* bsdf() const = 0;
     virtual const IEmitter* emitter() const = 0;
     virtual IEmitter* emitter() = 0;
+
+    /// The participating media inside and outside the surface (Mitsuba's `interior` and
+    /// `exterior`); null is vacuum. A shape with either is a medium boundary: a ray
+    /// leaving it along d is in the exterior medium when d·n > 0, else in the interior
+    /// one. Other shapes leave a ray's medium unchanged.
+    virtual const IMedium* interiorMedium() const { return nullptr; }
+    virtual const IMedium* exteriorMedium() const { return nullptr; }
+    bool isMediumTransition() const { return interiorMedium() || exteriorMedium(); }
 };
 
 } // namespace effigi

@@ -27,15 +27,19 @@ struct SurfaceInteraction {
     const IBSDF* bsdf = nullptr;
     const IEmitter* emitter = nullptr;
     std::uint32_t prim = 0;
+    /// Magnitude of the values p was computed from (offsetRayOrigin's `scale`); 0: |p|.
+    float pScale = 0.f;
 
     Vector3f toLocal(const Vector3f& v) const { return shading.toLocal(v); }
     Vector3f toWorld(const Vector3f& v) const { return shading.toWorld(v); }
 
-    Ray spawnRay(const Vector3f& d) const { return Ray{offsetRayOrigin(p, n, d), d, Infinity}; }
+    /// p pushed off the surface to the side of d (offsetRayOrigin).
+    Point3f offsetOrigin(const Vector3f& d) const { return offsetRayOrigin(p, n, d, pScale); }
+    Ray spawnRay(const Vector3f& d) const { return Ray{offsetOrigin(d), d, Infinity}; }
     /// Ray toward target that stops just before it (shadow rays).
     Ray spawnRayTo(const Point3f& target) const {
         Vector3f d = target - p;
-        Point3f o = offsetRayOrigin(p, n, d);
+        Point3f o = offsetOrigin(d);
         return Ray{o, target - o, 1.f - ShadowEpsilon};
     }
 };

@@ -27,10 +27,13 @@ struct Hit {
 
 /// Origin for a ray leaving a surface point p (normal n) in direction d, pushed off the
 /// surface along n by an amount relative to the coordinates' magnitude so that float
-/// round-off cannot make the ray re-hit its own surface at any scene scale.
-inline Point3f offsetRayOrigin(const Point3f& p, const Normal3f& n, const Vector3f& d) {
+/// round-off cannot make the ray re-hit its own surface at any scene scale. `scale` is
+/// the magnitude of the values p was computed from (a triangle's vertices, a sphere's
+/// centre plus radius): p's rounding error is a few ulps of it, which near the world
+/// origin is far more than a few ulps of p itself (a mirror through the origin).
+inline Point3f offsetRayOrigin(const Point3f& p, const Normal3f& n, const Vector3f& d, float scale = 0.f) {
     constexpr float RelativeEps = 0x1p-17f;  // ~7.6e-6: a few ulps of |p| with margin
-    float offset = RelativeEps * std::max(maxAbsComponent(p), 0x1p-60f);
+    float offset = RelativeEps * std::max(std::max(maxAbsComponent(p), scale), 0x1p-60f);
     Vector3f o = offset * n;
     return dot(d, n) < 0.f ? p - o : p + o;
 }

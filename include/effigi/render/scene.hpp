@@ -46,6 +46,9 @@ public:
     /// nothing loops forever; a real scene never stacks that many).
     SampledSpectrum transmittance(Ray ray, const SampledWavelengths& lambda) const;
     static constexpr int MaxNullCrossings = 256;
+    /// True if a shape bounds a participating medium or the camera is inside one: only
+    /// `volpath` renders media; other renderers refuse such scenes or ignore the media.
+    bool hasMedia() const { return m_hasMedia; }
 
     /// Pick an emitter uniformly (as Mitsuba 3 does);
     /// returns null when the scene has none.
@@ -81,6 +84,7 @@ private:
     std::vector<const IEmitter*> m_emitterPtrs, m_envPtrs;
     BBox3f m_bbox;
     bool m_hasNull = false;
+    bool m_hasMedia = false;
 };
 
 } // namespace effigi

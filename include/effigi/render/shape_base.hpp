@@ -4,6 +4,7 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/iemitter.hpp"
+#include "effigi/interfaces/imedium.hpp"
 #include "effigi/interfaces/ishape.hpp"
 
 #include <vector>
@@ -12,7 +13,8 @@ namespace effigi {
 
 class ShapeBase : public Implements<IShape> {
 public:
-    /// Schema entries every shape has: to_world, bsdf, emitter, flip_normals.
+    /// Schema entries every shape has: to_world, bsdf, emitter, interior, exterior,
+    /// flip_normals.
     static void addCommonParams(Schema& s);
 
     /// Reads to_world, flip_normals, the nested bsdf (a default diffuse one when absent)
@@ -24,6 +26,8 @@ public:
     const IBSDF* bsdf() const override { return m_bsdf.get(); }
     const IEmitter* emitter() const override { return m_emitter.get(); }
     IEmitter* emitter() override { return m_emitter.get(); }
+    const IMedium* interiorMedium() const override { return m_interior.get(); }
+    const IMedium* exteriorMedium() const override { return m_exterior.get(); }
 
 protected:
     /// Fill the parts of a SurfaceInteraction that come from the shape itself.
@@ -42,6 +46,7 @@ protected:
     Transform m_toWorld;
     Ref<IBSDF> m_bsdf;
     Ref<IEmitter> m_emitter;
+    Ref<IMedium> m_interior, m_exterior;
     bool m_flipNormals = false;
 
 private:
