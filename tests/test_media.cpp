@@ -173,6 +173,32 @@ TEST_CASE("media: homogeneous coefficients for a chromatic sigma_t", "[media]") 
     CHECK(d->sampleEmitters());
 }
 
+TEST_CASE("media: a homogeneous medium's albedo may be a volume, its emission a spectrum", "[media]") {
+    // Mitsuba's homogeneous medium takes a volume for the albedo (σt stays constant, so
+    // transmittance stays exp(−σt d)); a constant volume must give what the plain value gives.
+    auto plain = query<IMedium>(fromXml(R"(<medium type="homogeneous"><float name="sigma_t" value="3"/>
+    <rgb name="albedo" value="0.2, 0.5, 0.9"/></medium>)"));
+    auto vol = query<IMedium>(fromXml(R"(<medium type="homogeneous"><float name="sigma_t" value="3"/>
+    <volume type="constvolume" name="albedo"><rgb name="value" value="0.2, 0.5, 0.9"/></volume></medium>)"));
+    REQUIRE(plain);
+    REQUIRE(vol);
+    CHECK(vol->isHomogeneous());
+    const SampledWavelengths l = SampledWavelengths::fromNodes({420.f, 510.f, 600.f, 680.f}, {1.f, 1.f, 1.f, 1.f});
+    const MediumProperties a = plain->at(Point3f(0.3f), l), b = vol->at(Point3f(0.3f), l);
+    for (int k = 0; k < 4; ++k) {
+        CHECK(b.sigmaS[k] == Approx(a.sigmaS[k]).epsilon(1e-5));
+        CHECK(b.sigmaT()[k] == Approx(3.f).epsilon(1e-6));
+    }
+    // emission (effigi's own): Le where it absorbs; isEmissive follows.
+    auto glow = query<IMedium>(fromXml(R"(<medium type="homogeneous"><float name="albedo" value="0.5"/>
+    <spectrum name="emission" value="2"/></medium>)"));
+    CHECK(glow->isEmissive());
+    CHECK(glow->at(Point3f(0.f), l).Le[1] == Approx(2.f));
+    CHECK(errorOf([] { fromXml("<medium type=\"homogeneous\">\n  <volume type=\"constvolume\" name=\"albedo\">"
+                               "<float name=\"value\" value=\"1.5\"/></volume>\n</medium>"); })
+              .find("albedo volume reaches 1.5") != std::string::npos);
+}
+
 TEST_CASE("media: transmittance estimators", "[media]") {
     auto vacuum = query<IMedium>(fromXml(R"(<medium type="homogeneous"><float name="sigma_t" value="0"/></medium>)"));
     auto haze = query<IMedium>(fromXml(R"(<medium type="homogeneous">

@@ -13,11 +13,14 @@
 // Le itself and a chord of length d through a purely absorbing one Le·(1 − exp(−σa d)).
 // Emitted light is found by the renderer's free-flight sampling, not by light sampling.
 //
-// A spatially varying albedo or σt is the `heterogeneous` medium's (`volume` parameters).
+// A spatially varying σt is the `heterogeneous` medium's.
 //
 // Parameters:
 //   sigma_t          spectrum (default 1, ≥ 0)        extinction coefficient [1/distance]
-//   albedo           spectrum (default 0.75, [0, 1])  single-scattering albedo σs/σt
+//   albedo           spectrum or volume (default 0.75, [0, 1])  single-scattering albedo
+//                    σs/σt; a volume (gridvolume, …) varies it in space, as Mitsuba
+//                    allows, while σt stays constant (the medium stays homogeneous for
+//                    transmittance)
 //   scale            float (default 1, ≥ 0)           multiplies sigma_t (unit conversion)
 //   sample_emitters  bool (default true)              renderers cast shadow rays from inside
 //   phase            nested phase (default isotropic)
@@ -27,6 +30,9 @@
 // Reference: pbrt-v4 §11.1 (volume scattering processes), Mitsuba 3's `homogeneous`.
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/imedium.hpp"
+#include "effigi/interfaces/ivolume.hpp"
+
+#include <algorithm>
 
 namespace effigi {
 namespace {
@@ -50,7 +56,8 @@ public:
         s.cite("M. Pharr, W. Jakob & G. Humphreys, Physically Based Rendering (4th ed.), §11.1, 2023");
         s.spectrum("sigma_t", 1.f, SpectrumKind::Unbounded, "Extinction coefficient σt = σa + σs per unit distance")
             .atLeast(0.0);
-        s.spectrum("albedo", 0.75f, SpectrumKind::Reflectance, "Single-scattering albedo σs/σt").range(0.0, 1.0);
+        s.volume("albedo", 0.75f, SpectrumKind::Reflectance, "Single-scattering albedo σs/σt (a volume varies it in space)")
+            .range(0.0, 1.0);
         s.real("scale", 1.0, "Factor on sigma_t, for coefficients given in other units than the scene's").atLeast(0.0);
         s.boolean("sample_emitters", true, "Whether renderers sample emitters (shadow rays) from inside the medium");
         s.child("phase", "phase", "Phase function of the scattering events (default: isotropic)");
@@ -62,7 +69,7 @@ public:
         s.addConformance({"dense", {{"sigma_t", 40.0}, {"albedo", 0.99}}});
         // σt falling from blue to red (a λ⁻⁴-like haze), with a coloured albedo.
         s.addConformance({"chromatic",
-                          {{"sigma_t", SpectrumValue{{360.f, 450.f, 550.f, 650.f, 830.f}, {4.f, 2.4f, 1.1f, 0.55f, 0.2f}}},
+                          {{"sigma_t", SpectrumValue{{360.f, 450.f, 550.f, 650.f, 830.f}, {4.f, 2.4f, 1.1f, 0.55f, 0.2f}, 0.f, 1.f, {}}},
                            {"albedo", RGBValue{{0.9f, 0.6f, 0.2f}}}}});
         s.addConformance({"rgb", {{"sigma_t", RGBValue{{0.2f, 0.5f, 0.9f}}}}});
         s.addConformance({"scaled", {{"sigma_t", 0.002}, {"scale", 1000.0}}});
@@ -75,8 +82,10 @@ public:
 
     explicit HomogeneousMedium(const Properties& p)
         : m_sigmaT(p.getSpectrum("sigma_t", extinctionKind(p)).scaled(p.getFloat("scale"))),
-          m_albedo(p.getSpectrum("albedo", SpectrumKind::Reflectance)), m_phase(p.get<IPhaseFunction>("phase")),
-          m_emission(p.getSpectrum("emission", SpectrumKind::Illuminant)), m_sampleEmitters(p.getBool("sample_emitters")) {
+          m_albedoVolume(albedoVolume(p)),
+          m_albedo(m_albedoVolume ? Spectrum(0.f) : p.getSpectrum("albedo", SpectrumKind::Reflectance)),
+          m_emission(p.getSpectrum("emission", SpectrumKind::Illuminant)), m_phase(p.get<IPhaseFunction>("phase")),
+          m_sampleEmitters(p.getBool("sample_emitters")) {
         // The range check sees plain numbers only; spectra and RGB are checked here, on a
         // 1 nm grid over the visible range (the spectra are piecewise linear or smooth).
         for (float lambda = LambdaMin; lambda <= LambdaMax; lambda += 1.f) {
@@ -93,6 +102,9 @@ public:
                        p.describe(), e, lambda);
             m_emissive = m_emissive || e > 0.f;
         }
+        if (m_albedoVolume && !(m_albedoVolume->maxValue() <= 1.f + 1e-4f))
+            failAt(p.whereOf("albedo"), "{}: the albedo volume reaches {}; an albedo must lie in [0, 1]", p.describe(),
+                   m_albedoVolume->maxValue());
         if (!m_phase) {
             Properties d("phase", "isotropic", p.where());
             m_phase = query<IPhaseFunction>(Registry::instance().create("phase", "isotropic", d));
@@ -104,8 +116,13 @@ public:
     bool sampleEmitters() const override { return m_sampleEmitters; }
     bool isEmissive() const override { return m_emissive; }
 
-    MediumProperties at(const Point3f&, const SampledWavelengths& lambda) const override {
-        const SampledSpectrum sigmaT = m_sigmaT.sample(lambda), albedo = m_albedo.sample(lambda);
+    MediumProperties at(const Point3f& p, const SampledWavelengths& lambda) const override {
+        const SampledSpectrum sigmaT = m_sigmaT.sample(lambda);
+        SampledSpectrum albedo = m_albedo.sample(lambda);
+        if (m_albedoVolume) {
+            albedo = m_albedoVolume->eval(p, lambda);
+            for (int i = 0; i < NSpectrumSamples; ++i) albedo[i] = std::clamp(albedo[i], 0.f, 1.f);
+        }
         MediumProperties mp;
         mp.sigmaS = sigmaT * albedo;
         mp.sigmaA = sigmaT * (SampledSpectrum(1.f) - albedo);
@@ -119,7 +136,15 @@ public:
     }
 
 private:
-    Spectrum m_sigmaT, m_albedo, m_emission;
+    /// The nested albedo volume, if the albedo is one.
+    static Ref<IVolume> albedoVolume(const Properties& p) {
+        const Properties::Entry* e = p.find("albedo");
+        return e && std::holds_alternative<ComponentValue>(e->value) ? p.get<IVolume>("albedo") : nullptr;
+    }
+
+    Spectrum m_sigmaT;
+    Ref<IVolume> m_albedoVolume;  // null: the spectrum m_albedo
+    Spectrum m_albedo, m_emission;
     Ref<IPhaseFunction> m_phase;
     bool m_sampleEmitters, m_emissive = false;
 };
