@@ -6,6 +6,9 @@
 //    direction, a positive finite length and a finite, non-negative weight;
 //  - clip range: a ray starts at camera depth near_clip and spans the clip slab, its
 //    length times the cosine to the viewing axis being far_clip − near_clip (Mitsuba);
+//    or, for a panoramic camera (it looks sideways and back, where no plane can clip),
+//    starts at distance near_clip from the eye and runs far_clip − near_clip; every ray
+//    of a camera must follow the same one of the two;
 //  - projection inverts generateRay: points at several depths along a ray connect
 //    (ICameraImportance::sampleDirection with the same lens sample) to the film position
 //    the ray came from, within the rounding the geometry allows, with a connection
@@ -108,6 +111,7 @@ const Point2f EdgeLens[] = {{0.5f, 0.5f}, {0.f, 0.f}, {OneMinusEpsilon, OneMinus
 void checkRays(Target& t, const std::vector<Setup>& setups, double nearClip, double farClip, bool hasClip) {
     PCG32 rng = t.rng("film maps into image");
     Tally maps, clip;
+    std::uint64_t planarOnly = 0, radialOnly = 0;  // rays that only one clip convention fits
     for (const Setup& s : setups) {
         glm::dvec3 axis = glm::normalize(glm::dvec3(s.toWorld * glm::dvec4(0, 0, 1, 0)));
         auto probe = [&](Point2f film, Point2f lens) {
@@ -125,11 +129,17 @@ void checkRays(Target& t, const std::vector<Setup>& setups, double nearClip, dou
             double depth = local(s, r.o).z;
             double tolStart = 1e-5 * nearClip + 64.0 * U * (glm::length(glm::dvec3(r.o)) + glm::length(s.eye));
             double span = double(r.tMax) * glm::dot(glm::dvec3(r.d), axis);
-            bool inClip = std::abs(depth - nearClip) <= tolStart && std::abs(span - (farClip - nearClip)) <=
-                                                                        1e-4 * (farClip - nearClip);
-            clip.note(inClip, fmt::format("{}: film {} lens {}: origin depth {:.9g} (near {:.9g}), tMax·cos = {:.9g} "
-                                          "(far − near = {:.9g})",
-                                          s.label, str(film), str(lens), depth, nearClip, span, farClip - nearClip));
+            double tolSpan = 1e-4 * (farClip - nearClip);
+            bool planar = std::abs(depth - nearClip) <= tolStart && std::abs(span - (farClip - nearClip)) <= tolSpan;
+            // Panoramic cameras (spherical, panoramic, fisheye) see sideways and backwards,
+            // where no depth plane bounds a ray: they clip by distance from the eye.
+            double radius = glm::length(glm::dvec3(r.o) - s.eye);
+            bool radial = std::abs(radius - nearClip) <= tolStart && std::abs(double(r.tMax) - (farClip - nearClip)) <= tolSpan;
+            if (planar != radial) ++(planar ? planarOnly : radialOnly);
+            clip.note(planar || radial,
+                      fmt::format("{}: film {} lens {}: origin depth {:.9g}, distance {:.9g} (near {:.9g}), tMax = {:.9g}, "
+                                  "tMax·cos = {:.9g} (far − near = {:.9g})",
+                                  s.label, str(film), str(lens), depth, radius, nearClip, r.tMax, span, farClip - nearClip));
         };
         for (Point2f film : edgePositions(s))
             for (Point2f lens : EdgeLens) probe(film, lens);
@@ -143,9 +153,13 @@ void checkRays(Target& t, const std::vector<Setup>& setups, double nearClip, dou
         t.skip("clip range", "no near_clip / far_clip parameters");
         return;
     }
-    t.expect("clip range", clip.bad == 0, clip.figure(),
+    bool mixed = planarOnly > 0 && radialOnly > 0;
+    t.expect("clip range", clip.bad == 0 && !mixed, clip.figure(),
              clip.bad ? "first: " + clip.first
-                      : "origins at depth near_clip (to rounding), tMax·cos θ = far_clip − near_clip (1e-4 relative)");
+             : mixed  ? fmt::format("{} rays clip by depth, {} by distance: one convention per camera", planarOnly, radialOnly)
+                      : "origins at depth near_clip and tMax·cos θ = far_clip − near_clip (projective), or at distance "
+                        "near_clip from the eye and tMax = far_clip − near_clip (panoramic), one for all rays (to "
+                        "rounding, 1e-4 relative)");
 }
 
 /// The distance between the point p and the line of r.

@@ -3,7 +3,8 @@
 // parameters, the field of view from fov / fov_axis or a 35 mm focal length, the clip
 // planes, and the map from a film position to camera space with Mitsuba's conventions
 // (the camera looks along +z, +y is up, +x is LEFT, so image right is camera −x), and
-// the state and accessors of ProjectiveCamera.
+// the state and accessors of every camera (CameraBase, also under the panoramic cameras of
+// panorama.hpp) and of ProjectiveCamera.
 // Reference: Mitsuba 3 documentation, "Perspective pinhole camera", "Perspective camera
 // with a thin lens", "Orthographic camera"; PBRT 4th ed., §5.1–5.2.
 #include "effigi/core/input.hpp"
@@ -135,11 +136,10 @@ inline bool filmPosition(const Vector2f& plane, const Vector2f& size, const Vect
     return q.x >= 0.f && q.x <= 1.f && q.y >= 0.f && q.y <= 1.f;
 }
 
-/// Base of the projective cameras: the state every one of them has (to_world, the nested
-/// film and sampler, the clip planes, checked by readClip) and the ICamera accessors to it.
-/// Derived cameras check to_world their own way and add generateRay and the light
-/// tracers' connection (ICameraImportance::sampleDirection, the inverse of generateRay).
-class ProjectiveCamera : public Implements<ICamera, ICameraImportance> {
+/// The state every camera keeps (to_world, the nested film and sampler, the optional
+/// medium, the clip distances, checked by readClip) and the ICamera accessors to it;
+/// `Interfaces` are those the camera implements (ICamera, maybe ICameraImportance).
+template <typename... Interfaces> class CameraBase : public Implements<Interfaces...> {
 public:
     const Transform& toWorld() const override { return m_toWorld; }
     IFilm& film() const override { return *m_film; }
@@ -147,19 +147,30 @@ public:
     const IMedium* medium() const override { return m_medium.get(); }
 
 protected:
-    explicit ProjectiveCamera(const Properties& p)
+    explicit CameraBase(const Properties& p)
         : m_toWorld(p.getTransform("to_world")),
           m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
           m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")), m_medium(p.get<IMedium>("medium")) {
         readClip(p, m_near, m_far);
-        m_toLocal = m_toWorld.inverse();  // non-finite for a singular to_world, which derived cameras reject
     }
 
-    Transform m_toWorld, m_toLocal;
+    Transform m_toWorld;
     Ref<IFilm> m_film;
     Ref<ISampler> m_sampler;
     Ref<IMedium> m_medium;
     float m_near = 1e-2f, m_far = 1e4f;
+};
+
+/// Base of the projective cameras: CameraBase with the light tracers' connection.
+/// Derived cameras check to_world their own way and add generateRay and
+/// ICameraImportance::sampleDirection (the inverse of generateRay).
+class ProjectiveCamera : public CameraBase<ICamera, ICameraImportance> {
+protected:
+    explicit ProjectiveCamera(const Properties& p) : CameraBase(p) {
+        m_toLocal = m_toWorld.inverse();  // non-finite for a singular to_world, which derived cameras reject
+    }
+
+    Transform m_toLocal;
 };
 
 } // namespace effigi::camera
