@@ -2,11 +2,15 @@
 // Scenes edited as text before loading, for the renderer tests that render a committed
 // scene with another integrator or an extra element (test_photonmap, test_sppm,
 // test_ptracer, test_renderers_extra, test_camera_importance).
+#include "effigi/interfaces/ifilm.hpp"
 #include "effigi/render/scene.hpp"
 #include "effigi/xml/loader.hpp"
 #include "effigi/xml/parser.hpp"
 
 #include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
 
 #include <filesystem>
 #include <fstream>
@@ -57,6 +61,23 @@ inline std::unique_ptr<Scene> loadWithIntegrator(const std::string& file, const 
     TextEdits all{{text.substr(a, end - a), integrator}};
     all.insert(all.end(), edits.begin(), edits.end());
     return loadEdited(file, all, std::move(defines));
+}
+
+/// `scene` rendered with `seed` and no progress bar (other settings from `control`): the
+/// developed image, and the render's statistics in *stats when asked.
+inline Image renderSeeded(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr, RenderControl control = {}) {
+    control.progress = false;
+    control.seed = seed;
+    RenderStats s = scene.renderer().render(scene, control);
+    if (stats) *stats = s;
+    return scene.camera().film().develop();
+}
+
+/// True when no pixel value is NaN or infinite (saturated colours may be negative in RGB).
+inline bool allFinite(const Image& img) {
+    for (float v : img.pixels)
+        if (!std::isfinite(v)) return false;
+    return true;
 }
 
 } // namespace effigi::test

@@ -46,12 +46,6 @@ Image render(const std::string& type, int maxDepth, int res, int spp, const Text
 
 double mean(const Image& img) { return regionMean(img, 0.f, 0.f, 1.f, 1.f); }
 
-bool allFinite(const Image& img) {
-    for (float v : img.pixels)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 /// bdpt and path on the same edited Cornell box: image means within `tol` (relative).
 void compareWithPath(const TextEdits& edits, int maxDepth, double tol, int res = 32, int spp = 64) {
     Image b = render("bdpt", maxDepth, res, spp, edits);

@@ -7,6 +7,7 @@
 #include "../components/renderer/irradiance_gather.hpp"
 #include "cornell_regions.hpp"
 #include "printable_line.hpp"
+#include "scene_text.hpp"
 
 #include "effigi/core/error.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -77,12 +78,6 @@ Image renderImage(Scene& scene, std::uint64_t seed) {
     RenderStats stats = scene.renderer().render(scene, control);
     CHECK(stats.rejectedSamples == 0);
     return scene.camera().film().develop();
-}
-
-bool allFinite(const Image& img) {
-    for (float v : img.pixels)
-        if (!std::isfinite(v)) return false;  // (saturated colours may be negative in RGB)
-    return true;
 }
 
 const std::string Enclosure = R"(<scene version="3.0.0">

@@ -58,12 +58,6 @@ Image render(Scene& scene, std::uint64_t seed = 1) {
 }
 
 
-bool allFinite(const Image& img) {
-    for (float v : img.pixels)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 } // namespace
 
 TEST_CASE("photonmap: the Cornell box agrees with the path-traced reference", "[render][photonmap]") {

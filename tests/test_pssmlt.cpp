@@ -36,20 +36,6 @@ namespace {
 
 const std::string Cornell = EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml";
 
-Image render(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr, RenderControl control = {}) {
-    control.progress = false;
-    control.seed = seed;
-    RenderStats s = scene.renderer().render(scene, control);
-    if (stats) *stats = s;
-    return scene.camera().film().develop();
-}
-
-bool allFinite(const Image& img) {
-    for (float v : img.pixels)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 /// χ² statistic of `values` (in [0,1)) against uniform over `bins` equal bins.
 double chiSquare(const std::vector<float>& values, int bins) {
     std::vector<double> count(std::size_t(bins), 0.0);
@@ -230,13 +216,13 @@ TEST_CASE("pssmlt: a closed diffuse enclosure shows Le / (1 - rho)", "[pssmlt][r
     // was 1.999 ± 0.002 (default) and 1.999 ± 0.002 (direct light by the chains), spread
     // ±0.04; at 64 the spread halves. Tolerance ±2 %.
     auto le = enclosure(R"(<integrator type="path"><integer name="max_depth" value="1"/></integrator>)", 64);
-    const double emitted = regionMean(render(*le, 1), 0, 0, 1, 1);
+    const double emitted = regionMean(renderSeeded(*le, 1), 0, 0, 1, 1);
     for (const std::string direct : {"16", "-1"}) {
         auto scene = enclosure(R"(<integrator type="pssmlt"><integer name="direct_samples" value=")" + direct +
                                    R"("/></integrator>)",
                                64);
         RenderStats stats;
-        const Image img = render(*scene, 5, &stats);
+        const Image img = renderSeeded(*scene, 5, &stats);
         REQUIRE(allFinite(img));
         CHECK(stats.rejectedSamples == 0);
         const double ratio = regionMean(img, 0, 0, 1, 1) / emitted;
@@ -258,7 +244,7 @@ void checkCornell(const std::string& technique, int spp, double tolImage, double
                                     {{"<rfilter type=\"gaussian\"/>", "<rfilter type=\"box\"/>"},
                                      {"sampler type=\"independent\"", "sampler type=\"ldsampler\""}});
     RenderStats stats;
-    const Image ours = render(*scene, 1, &stats), ref = cornellReference(32);
+    const Image ours = renderSeeded(*scene, 1, &stats), ref = cornellReference(32);
     CHECK(stats.rejectedSamples == 0);
     REQUIRE(allFinite(ours));
     const std::vector<CornellRegion> regions = cornellRegions();
@@ -299,7 +285,7 @@ TEST_CASE("pssmlt: a seed gives one image, other thread counts differ by float r
     auto withThreads = [&](int threads, std::uint64_t seed) {
         RenderControl c;
         c.threads = threads;
-        return render(*scene, seed, nullptr, c);
+        return renderSeeded(*scene, seed, nullptr, c);
     };
     const Image a = withThreads(2, 3), b = withThreads(2, 3), one = withThreads(1, 3), other = withThreads(2, 4);
     CHECK(a.pixels == b.pixels);
@@ -320,7 +306,7 @@ TEST_CASE("pssmlt: a stop request before the start leaves a finite image", "[pss
     RenderControl c;
     c.stop = &stop;
     RenderStats stats;
-    const Image img = render(*scene, 1, &stats, c);
+    const Image img = renderSeeded(*scene, 1, &stats, c);
     CHECK(stats.interrupted);
     CHECK(allFinite(img));
 }

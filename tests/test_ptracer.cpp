@@ -48,15 +48,6 @@ std::unique_ptr<Scene> loadEdited(const std::string& file, const std::string& fr
     return test::loadEdited(file, from.empty() ? test::TextEdits{} : test::TextEdits{{from, to}}, std::move(defines));
 }
 
-Image render(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr) {
-    RenderControl control;
-    control.progress = false;
-    control.seed = seed;
-    RenderStats s = scene.renderer().render(scene, control);
-    if (stats) *stats = s;
-    return scene.camera().film().develop();
-}
-
 /// Mean of channel c (0..2; 3 = grey) over the pixel rectangle [x0, x1) × [y0, y1).
 double regionMean(const Image& img, int c, int x0, int y0, int x1, int y1) {
     double sum = 0;
@@ -101,7 +92,7 @@ const std::vector<Image>& ptracerRenders() {
         std::vector<Image> out;
         for (std::uint64_t seed = 1; seed <= 16; ++seed) {
             RenderStats stats;
-            out.push_back(render(*scene, seed * 7919, &stats));
+            out.push_back(test::renderSeeded(*scene, seed * 7919, &stats));
             REQUIRE(stats.rejectedSamples == 0);
             REQUIRE(stats.samples == 32u * 32u * 32u);
         }
@@ -225,7 +216,7 @@ TEST_CASE("ptracer: the Mitsuba corpus scene renders and agrees with Mitsuba 3",
     opt.defines = {{"resx", "128"}, {"resy", "16"}, {"spp", "8"}};
     auto scene = loadSceneFile(CorpusScene, opt);
     std::vector<Image> renders;
-    for (std::uint64_t seed = 1; seed <= 16; ++seed) renders.push_back(render(*scene, seed * 104729));
+    for (std::uint64_t seed = 1; seed <= 16; ++seed) renders.push_back(test::renderSeeded(*scene, seed * 104729));
     REQUIRE(renders[0].width == ref.spec.width);
     REQUIRE(renders[0].height == ref.spec.height);
     // Grey means of eight columns (each lit by a different emitter type) and the whole
@@ -253,23 +244,23 @@ TEST_CASE("ptracer: max_depth, hide_emitters and progressive passes", "[render][
 
     // max_depth 0: nothing at all.
     auto none = loadEdited(SceneFile, "", "", {{"max_depth", "0"}, {"spp", "4"}});
-    CHECK(grey(render(*none, 1)) == 0.0);
+    CHECK(grey(test::renderSeeded(*none, 1)) == 0.0);
     // max_depth 1: only what is seen directly (the area light and the environment)...
     auto direct = loadEdited(SceneFile, "", "", {{"max_depth", "1"}, {"spp", "8"}});
-    double visible = grey(render(*direct, 1));
+    double visible = grey(test::renderSeeded(*direct, 1));
     CHECK(visible > 0.0);
     // ... which hide_emitters removes.
     auto hidden = loadEdited(SceneFile, tag, tag + "<boolean name=\"hide_emitters\" value=\"true\"/>",
                              {{"max_depth", "1"}, {"spp", "8"}});
-    CHECK(grey(render(*hidden, 1)) == 0.0);
+    CHECK(grey(test::renderSeeded(*hidden, 1)) == 0.0);
     // Scattered light adds to it.
     auto full = loadEdited(SceneFile, "", "", {{"spp", "8"}});
-    CHECK(grey(render(*full, 1)) > visible);
+    CHECK(grey(test::renderSeeded(*full, 1)) > visible);
 
     // Two progressive passes of 8 samples trace the same paths as one of 16: the same
     // image up to the order of floating-point sums.
     auto once = loadEdited(SceneFile, "", "", {{"spp", "16"}});
-    Image a = render(*once, 3);
+    Image a = test::renderSeeded(*once, 3);
     RenderControl control;
     control.progress = false;
     control.seed = 3;
@@ -284,7 +275,7 @@ TEST_CASE("ptracer: max_depth, hide_emitters and progressive passes", "[render][
 
     // samples_per_pass splits the work, not the result.
     auto passes = loadEdited(SceneFile, tag, tag + "<integer name=\"samples_per_pass\" value=\"4\"/>", {{"spp", "16"}});
-    Image c = render(*passes, 3);
+    Image c = test::renderSeeded(*passes, 3);
     for (std::size_t i = 0; i < a.pixels.size(); ++i)
         CHECK(c.pixels[i] == Approx(a.pixels[i]).epsilon(1e-4).margin(1e-6));
 }
@@ -294,14 +285,14 @@ TEST_CASE("ptracer: a crop window shows the same pixels as the full film", "[ren
     // the same paths (as many as the full film: Mitsuba's count) and its pixels match the
     // full render's, up to the order of floating-point sums (box filter: no spill-over).
     auto full = loadEdited(SceneFile, "", "", {{"spp", "8"}});
-    Image a = render(*full, 5);
+    Image a = test::renderSeeded(*full, 5);
     const std::string box = "<rfilter type=\"box\"/>";
     auto crop = loadEdited(SceneFile, box,
                            box + "<integer name=\"crop_offset_x\" value=\"8\"/><integer name=\"crop_offset_y\" "
                                  "value=\"12\"/><integer name=\"crop_width\" value=\"20\"/><integer "
                                  "name=\"crop_height\" value=\"10\"/>",
                            {{"spp", "8"}});
-    Image b = render(*crop, 5);
+    Image b = test::renderSeeded(*crop, 5);
     REQUIRE(b.width == 20);
     REQUIRE(b.height == 10);
     double sum = 0;

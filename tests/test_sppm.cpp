@@ -47,20 +47,6 @@ std::string sppm(const std::string& params) {
     return R"(<integrator type="sppm"><integer name="max_depth" value="8"/>)" + params + "</integrator>";
 }
 
-Image render(Scene& scene, std::uint64_t seed, RenderStats* stats = nullptr, RenderControl control = {}) {
-    control.progress = false;
-    control.seed = seed;
-    RenderStats s = scene.renderer().render(scene, control);
-    if (stats) *stats = s;
-    return scene.camera().film().develop();
-}
-
-bool allFinite(const Image& img) {
-    for (float v : img.pixels)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 } // namespace
 
 TEST_CASE("sppm update: the radius only shrinks, and a uniform density is estimated without bias",
@@ -111,12 +97,12 @@ TEST_CASE("sppm: the Cornell box agrees with path, image and walls", "[sppm][ren
     const std::map<std::string, std::string> defines{{"res", "48"}, {"spp", "256"}};
     auto ref = withIntegrator(Cornell, R"(<integrator type="path"><integer name="max_depth" value="8"/></integrator>)",
                               defines, {"<rfilter type=\"gaussian\"/>", "<rfilter type=\"box\"/>"});
-    Image a = render(*ref, 1);
+    Image a = renderSeeded(*ref, 1);
     auto s = withIntegrator(Cornell,
                             sppm(R"(<integer name="photon_count" value="20000"/><float name="initial_radius" value="0.04"/>)"),
                             {{"res", "48"}, {"spp", "32"}});
     RenderStats stats;
-    Image b = render(*s, 1, &stats);
+    Image b = renderSeeded(*s, 1, &stats);
     CHECK(stats.rejectedSamples == 0);
     REQUIRE(allFinite(b));
     const std::vector<CornellRegion> regions = cornellRegions();
@@ -151,7 +137,7 @@ TEST_CASE("sppm: a closed diffuse enclosure shows Le / (1 - rho)", "[sppm][rende
         return loadScene(*xml::parseString(text, "enclosure"));
     };
     auto emitted = scene(1), full = scene(-1);
-    const Image le = render(*emitted, 3), l = render(*full, 3);
+    const Image le = renderSeeded(*emitted, 3), l = renderSeeded(*full, 3);
     REQUIRE(allFinite(l));
     const double ratio = regionMean(l, 0, 0, 1, 1) / regionMean(le, 0, 0, 1, 1);
     INFO("L / Le = " << ratio << " (exact 2)");
@@ -164,13 +150,13 @@ TEST_CASE("sppm: progressive passes continue the same iterations", "[sppm][rende
                               {{"res", "16"}, {"spp", "8"}});
     };
     auto s = load();
-    const Image whole = render(*s, 5);
+    const Image whole = renderSeeded(*s, 5);
     RenderControl first;
     first.sampleOffset = 0, first.sampleCount = 4;
-    render(*s, 5, nullptr, first);
+    renderSeeded(*s, 5, nullptr, first);
     RenderControl second;
     second.sampleOffset = 4, second.sampleCount = 4, second.accumulate = true;
-    const Image twoPasses = render(*s, 5, nullptr, second);
+    const Image twoPasses = renderSeeded(*s, 5, nullptr, second);
     CHECK(twoPasses.pixels == whole.pixels);  // bit for bit: the same iterations in the same order
 
     // renderProgressive (effigi render --spp 8): passes of 1, 1, 2, 4 iterations.
@@ -184,7 +170,7 @@ TEST_CASE("sppm: progressive passes continue the same iterations", "[sppm][rende
     renderProgressive(*p, base, opt);
     CHECK(p->camera().film().develop().pixels == whole.pixels);
 
-    const Image again = render(*load(), 5), other = render(*load(), 6);
+    const Image again = renderSeeded(*load(), 5), other = renderSeeded(*load(), 6);
     CHECK(again.pixels == whole.pixels);
     CHECK(other.pixels != whole.pixels);
     std::vector<float> variance;
@@ -196,12 +182,12 @@ TEST_CASE("sppm: progressive passes continue the same iterations", "[sppm][rende
                                                R"(<integer name="max_passes" value="3"/>)"),
                                  {{"res", "16"}, {"spp", "8"}});
     RenderStats stats;
-    render(*capped, 5, &stats);
+    renderSeeded(*capped, 5, &stats);
     CHECK(stats.samples == 3u * 16u * 16u);
     std::atomic<bool> stop{true};
     RenderControl halted;
     halted.stop = &stop;
-    const Image none = render(*capped, 5, &stats, halted);
+    const Image none = renderSeeded(*capped, 5, &stats, halted);
     CHECK(stats.interrupted);
     CHECK(stats.samples == 0u);
     REQUIRE(allFinite(none));
@@ -244,10 +230,10 @@ TEST_CASE("sppm: dispersive glass gives a finite caustic as bright as light trac
         return loadScene(*xml::parseString(text, "dispersive caustic", opt));
     };
     auto ref = load("ptracer", "512");
-    Image a = render(*ref, 4);
+    Image a = renderSeeded(*ref, 4);
     auto s = load("sppm", "32");
     RenderStats stats;
-    Image b = render(*s, 4, &stats);
+    Image b = renderSeeded(*s, 4, &stats);
     CHECK(stats.rejectedSamples == 0);
     REQUIRE(allFinite(b));
     // The caustic and the sphere's shadow (fractions of the image).

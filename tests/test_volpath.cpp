@@ -26,13 +26,11 @@ namespace {
 /// The scene text rendered with `seed`; the developed image.
 Image renderText(const std::string& xml, std::uint64_t seed = 0, std::vector<float>* variance = nullptr) {
     auto scene = loadScene(*xml::parseString(xml, "volpath-test.xml", {}));
-    RenderControl control;
-    control.progress = false;
-    control.seed = seed;
-    RenderStats stats = scene->renderer().render(*scene, control);
+    RenderStats stats;
+    Image img = renderSeeded(*scene, seed, &stats);
     CHECK(stats.rejectedSamples == 0);
     if (variance) REQUIRE(scene->renderer().varianceEstimate(*variance));
-    return scene->camera().film().develop();
+    return img;
 }
 
 /// A scene: `renderer`, a camera at z = 4 looking at the origin (fov, res, spp), and `body`.
@@ -187,10 +185,7 @@ TEST_CASE("volpath: without media it renders what path renders", "[volpath][rend
     const std::string file = EFFIGI_SOURCE_DIR "/scenes/cornell-box/scene.xml";
     auto render = [&](const std::string& integrator) {
         auto s = loadWithIntegrator(file, integrator, {{"res", "32"}, {"spp", "256"}});
-        RenderControl control;
-        control.progress = false;
-        s->renderer().render(*s, control);
-        return s->camera().film().develop();
+        return renderSeeded(*s, 0);
     };
     const Image vol = render(R"(<integrator type="volpath"><integer name="max_depth" value="8"/></integrator>)");
     const Image path = render(R"(<integrator type="path"><integer name="max_depth" value="8"/></integrator>)");
