@@ -112,7 +112,11 @@ public:
         IIntegrationObserver* observer = query<IIntegrationObserver>(&f);
         if (m_pixels) {
             e = PixelAllocation::integrate(f, sampler, firstIndex, count);
-            if (observer) observer->integrated(IntegrationReport{{e}});
+            if (observer) {
+                IntegrationReport report;
+                report.stages = {e};
+                observer->integrated(report);
+            }
             return e;
         }
         std::vector<std::uint64_t> sizes{std::min(count, std::max(2 * m_min, (count + 63) / 64))};

@@ -3,10 +3,7 @@
 // a box over the first D dimensions with the samples it holds, and the sampler an
 // integrand sees, which places a sample's first D dimensions in the current box and
 // reports the sample's weight (IWeightedSampler).
-#include "effigi/core/component.hpp"
-#include "effigi/core/error.hpp"
-#include "effigi/interfaces/iintegrator_hooks.hpp"
-#include "effigi/interfaces/isampler.hpp"
+#include "dimension_map_sampler.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,28 +29,14 @@ struct Stratum {
 };
 
 /// The integrand's view of the nested sampler: dimension j < D placed in the stratum.
-class StratumSampler final : public Implements<ISampler, IWeightedSampler> {
+class StratumSampler final : public DimensionMapSampler<StratumSampler> {
 public:
-    StratumSampler(ISampler& base, int dims) : m_base(base), m_x(std::size_t(dims)) {}
+    StratumSampler(ISampler& base, int dims) : DimensionMapSampler(base, "adaptive"), m_x(std::size_t(dims)) {}
     void place(const Stratum* s, double weight) { m_stratum = s, m_weight = weight; }
-    int samplesPerPixel() const override { return m_base.samplesPerPixel(); }
-    void startPixel(const Point2i& p) override { m_base.startPixel(p); }
-    void startSample(std::uint64_t index) override { m_base.startSample(index), m_dim = 0; }
-    float get1D() override { return map(m_base.get1D()); }
-    Point2f get2D() override { const float x = get1D(); return {x, get1D()}; }
-    Point2f getPixel2D() override {
-        const Point2f p = m_base.getPixel2D();
-        const float x = map(p.x);
-        return {x, map(p.y)};
-    }
-    Ref<ISampler> clone(std::uint64_t) const override { fail("integrator 'adaptive': its sampler cannot be cloned"); }
-    double sampleWeight() const override { return m_weight; }
-    int drawn() const { return m_dim; }
     double x(int j) const { return m_x[std::size_t(j)]; }
 
-private:
-    float map(float y) {
-        const int j = m_dim++;
+    /// Dimension j of this sample, placed in the stratum's interval [lower_j, upper_j).
+    float map(int j, float y) {
         if (std::size_t(j) >= m_x.size() || std::size_t(j) >= m_stratum->lower.size()) return y;
         const float lo = float(m_stratum->lower[std::size_t(j)]), hi = float(m_stratum->upper[std::size_t(j)]);
         float u = std::max(lo, float(double(lo) + double(hi - lo) * double(y)));  // lo, hi dyadic: exact
@@ -62,11 +45,9 @@ private:
         return u;
     }
 
-    ISampler& m_base;
+private:
     const Stratum* m_stratum = nullptr;
     std::vector<double> m_x;
-    double m_weight = 1.0;
-    int m_dim = 0;
 };
 
 } // namespace effigi

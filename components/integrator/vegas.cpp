@@ -53,6 +53,8 @@
 // Integration Program", CLNS-80/447, 1980; T. Hesterberg, Technometrics 37(2), 1995; GSL.
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iintegrator.hpp"
+#include "dimension_map_sampler.hpp"
+
 #include "effigi/interfaces/iintegrator_hooks.hpp"
 #include "effigi/math/running_estimate.hpp"
 
@@ -67,32 +69,19 @@ namespace {
 constexpr int MaxGridDimensions = 1024;
 
 /// The integrand's view of the nested sampler: dimension j < dims goes through grid j.
-class GridSampler final : public Implements<ISampler, IWeightedSampler> {
+class GridSampler final : public DimensionMapSampler<GridSampler> {
 public:
-    GridSampler(ISampler& base, int bins) : m_base(base), m_bins(bins) {}
+    GridSampler(ISampler& base, int bins) : DimensionMapSampler(base, "vegas"), m_bins(bins) {}
 
     void setGrid(const std::vector<double>* edges, int dims) {
         m_edges = edges, m_dims = dims, m_bin.assign(std::size_t(dims), 0);
     }
-    int samplesPerPixel() const override { return m_base.samplesPerPixel(); }
-    void startPixel(const Point2i& p) override { m_base.startPixel(p); }
-    void startSample(std::uint64_t index) override { m_base.startSample(index), m_dim = 0, m_weight = 1.0; }
-    float get1D() override { return map(m_base.get1D()); }
-    Point2f get2D() override { const float x = get1D(); return {x, get1D()}; }
-    Point2f getPixel2D() override {
-        const Point2f p = m_base.getPixel2D();
-        const float x = map(p.x);
-        return {x, map(p.y)};
-    }
-    Ref<ISampler> clone(std::uint64_t) const override { fail("integrator 'vegas': its sampler cannot be cloned"); }
-    double sampleWeight() const override { return m_weight; }
-
-    int drawn() const { return m_dim; }
+    void startSample(std::uint64_t index) override { DimensionMapSampler::startSample(index), m_weight = 1.0; }
     int bin(int j) const { return m_bin[std::size_t(j)]; }
 
-private:
-    float map(float y) {
-        const int j = m_dim++;
+    /// Dimension j of this sample: u·bins picks bin i of grid j and the place in it; the
+    /// bin's width times bins (its density ratio) goes into the weight.
+    float map(int j, float y) {
         if (j >= m_dims) return y;
         const double* e = m_edges->data() + std::size_t(j) * std::size_t(m_bins + 1);
         const double t = double(y) * m_bins;
@@ -103,11 +92,10 @@ private:
         return std::clamp(float(e[i] + (t - i) * width), 0.f, OneMinusEpsilon);
     }
 
-    ISampler& m_base;
-    int m_bins, m_dims = 0, m_dim = 0;
+private:
+    int m_bins, m_dims = 0;
     const std::vector<double>* m_edges = nullptr;
     std::vector<int> m_bin;
-    double m_weight = 1.0;
 };
 
 class VegasIntegrator final : public Implements<IIntegrator> {
