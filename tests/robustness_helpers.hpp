@@ -79,10 +79,6 @@ inline void expectLoadError(const std::string& text, const std::string& marker, 
     for (const auto& w : words) CHECK_THAT(msg, Contains(w));
 }
 
-inline bool allFinite(const Image& img) {
-    return std::all_of(img.pixels.begin(), img.pixels.end(), [](float v) { return std::isfinite(v); });
-}
-
 inline double imageMean(const Image& img) {
     double sum = 0.0;
     for (float v : img.pixels) sum += v;
