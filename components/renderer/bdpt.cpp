@@ -20,7 +20,8 @@
 // seen directly), rr_depth (Russian roulette from that many segments on), hide_emitters,
 // strategies (pbrt's visualize_strategies): also write each strategy's MIS-weighted
 // contribution, for paths of up to 5 segments, as linear sRGB film channels "s<s>t<t>.R/G/B"
-// (environment light counts as s = 0 when found, s = 1 when sampled); they sum to the image.
+// (environment light counts as s = 0 when found, s = 1 when sampled); they sum to the image;
+// pathgenerator (nested IPathGenerator: how the subpaths walk, default `bsdf`).
 // Needs a camera with a density of directions: perspective or thinlens.
 // Reference: E. Veach, PhD thesis, 1997, ch. 10; E. Veach, L. Guibas, "Bidirectional
 // Estimators for Light Transport", 1994; pbrt 3rd ed., §16.3.
@@ -140,6 +141,7 @@ public:
         s.boolean("hide_emitters", false, "Do not show emitters seen directly by the camera");
         s.boolean("strategies", false,
                   "Also write each strategy's weighted contribution (paths up to 5 segments) as channels s<s>t<t>.R/G/B");
+        s.child("pathgenerator", "pathgenerator", "Walks of the camera and light subpaths (default: bsdf)");
         s.ignored("samples_per_pass", "effigi renders in passes of its own (see effigi render --spp)");
         s.ignored("timeout", "use effigi render --time for a time budget");
         s.ignored("lightImage", "the light-tracing strategies are always on");
@@ -155,7 +157,8 @@ public:
 
     explicit BdptRenderer(const Properties& p)
         : m_maxDepth(int(p.getInt("max_depth"))), m_rrDepth(int(p.getInt("rr_depth"))),
-          m_hideEmitters(p.getBool("hide_emitters")), m_strategies(p.getBool("strategies")) {}
+          m_hideEmitters(p.getBool("hide_emitters")), m_strategies(p.getBool("strategies")),
+          m_generator(pathGenerator(p)) {}
 
     RenderStats render(const Scene& scene, const RenderControl& control) override;
 
@@ -163,12 +166,13 @@ private:
     int m_maxDepth, m_rrDepth;
     bool m_hideEmitters;
     StrategyChannels m_strategies;
+    Ref<IPathGenerator> m_generator;
 };
 
 RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& control) {
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
-    Context ctx = makeContext(scene, m_maxDepth, m_rrDepth, "renderer 'bdpt'");
+    Context ctx = makeContext(scene, m_maxDepth, m_rrDepth, *m_generator, "renderer 'bdpt'");
     std::vector<std::string> channels = {"X", "Y", "Z"};
     channels.insert(channels.end(), m_strategies.names().begin(), m_strategies.names().end());
     if (!control.accumulate) film.prepare(channels);

@@ -11,29 +11,9 @@
 #include "bdpt_connect.hpp"
 #include "mis.hpp"
 
-#include "effigi/core/error.hpp"
-
 #include <vector>
 
 namespace effigi::bdpt {
-
-/// The strategies' context for a scene: its camera's importance (an error naming `who`
-/// for cameras without a density of directions, e.g. orthographic) and the finite
-/// emitters light subpaths start from. max_depth < 0 (unbounded) still ends by Russian
-/// roulette; UnboundedDepth caps the vertex arrays of pathological scenes (facing mirrors).
-inline Context makeContext(const Scene& scene, int maxDepth, int rrDepth, const char* who) {
-    constexpr int UnboundedDepth = 1024;
-    ICamera& camera = scene.camera();
-    const auto* importance = query<ICameraImportance>(&camera);
-    if (!importance || !(importance->pdfDirection(camera.toWorld().point(Point3f(0.f)),
-                                                  camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
-        fail("{}: {} needs a camera with a density of directions (perspective or thinlens), not '{}'",
-             scene.sourceFile, who, camera.typeName());
-    Context ctx{scene, *importance, camera.toWorld().inverse(), {}, maxDepth < 0 ? UnboundedDepth : maxDepth, rrDepth};
-    for (const IEmitter* e : scene.emitters())
-        if (!e->isInfinite()) ctx.lights.push_back(e);
-    return ctx;
-}
 
 /// Per-thread storage of the two subpaths.
 struct Subpaths {
@@ -72,7 +52,8 @@ void environment(const Context& ctx, bool hideEmitters, const std::vector<Vertex
                                                   : SampledSpectrum(scene.occluded(shadow) ? 0.f : 1.f);
         float pdfLight = selEnv * es.pdf;
         float w = es.delta ? 1.f
-                           : mis::powerHeuristic(pdfLight, v.si.bsdf->pdf(v.si, wo, wi, lambda, TransportMode::Radiance));
+                           : mis::powerHeuristic(pdfLight, ctx.generator.pdfDirection(v.si, wo, wi, lambda,
+                                                                                      TransportMode::Radiance));
         sink(1, int(i) + 1, v.beta * f * es.L * tr * (w / pdfLight));
     }
 }
@@ -87,9 +68,9 @@ void sample(const Context& ctx, bool hideEmitters, const Ray& ray, const Sampled
     std::vector<Vertex>& cam = paths.camera;
     std::vector<Vertex>& light = paths.light;
     Escape escape;
-    cameraSubpath(ctx, ray, weight, sampler, lambda, cam, escape);
+    ctx.generator.cameraSubpath(ctx, ray, weight, sampler, lambda, cam, escape);
     startStream(1);
-    lightSubpath(ctx, sampler, lambda, light);
+    ctx.generator.lightSubpath(ctx, sampler, lambda, light);
     startStream(2);
     environment(ctx, hideEmitters, cam, escape, sampler, lambda, sink);
     const int nCam = int(cam.size()), nLight = int(light.size());

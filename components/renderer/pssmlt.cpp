@@ -38,7 +38,8 @@
 // by the mutations taken.
 // Parameters: max_depth, rr_depth, hide_emitters (as `path`), bootstrap_samples (pbrt's
 // nBootstrap; at most one per mutation, at least 2), chains, large_step_prob, sigma,
-// direct_samples (−1: the chains sample direct light too), technique ("path", "bdpt").
+// direct_samples (−1: the chains sample direct light too), technique ("path", "bdpt"),
+// pathgenerator (nested: the bdpt technique's walks, default `bsdf`).
 // References: Kelemen, Szirmay-Kalos, Antal, Csonka 2002, "A Simple and Robust Mutation
 // Strategy for the Metropolis Light Transport Algorithm"; Veach & Guibas 1997, "Metropolis
 // Light Transport"; pbrt-v3 §16.4; Mitsuba 0.6 src/integrators/pssmlt.
@@ -88,6 +89,7 @@ public:
             .atLeast(-1);
         s.string("technique", "path", "Inner estimator evaluated on the primary samples: path or bdpt")
             .oneOf({"path", "bdpt"});
+        s.child("pathgenerator", "pathgenerator", "Walks of the bdpt technique's subpaths (default: bsdf)");
         s.ignored("timeout", "use effigi render --time for a time budget");
         // The suite's scenes at max_depth ≤ 2 are all direct light: there the chains run
         // only with direct_samples −1.
@@ -119,7 +121,9 @@ public:
           m_hideEmitters(p.getBool("hide_emitters")), m_bootstrap(std::uint64_t(p.getInt("bootstrap_samples"))),
           m_chains(std::uint64_t(p.getInt("chains"))), m_largeStepProb(p.getFloat("large_step_prob")),
           m_sigma(p.getFloat("sigma")), m_directSamples(p.getInt("direct_samples")),
-          m_technique(p.getString("technique")) {
+          m_technique(p.getString("technique")), m_generator(bdpt::pathGenerator(p)) {
+        if (m_technique != "bdpt" && p.getComponent("pathgenerator"))
+            failAt(p.whereOf("pathgenerator"), "{}: a 'pathgenerator' is used only by technique 'bdpt'", p.describe());
         if (!(m_sigma > 0.f)) failAt(p.whereOf("sigma"), "{}: 'sigma' must be > 0 (got {})", p.describe(), m_sigma);
         if (m_directSamples == 0)
             failAt(p.whereOf("direct_samples"), "{}: 'direct_samples' must be -1 (none apart) or at least 1",
@@ -135,7 +139,8 @@ private:
         if (m_technique == "path")
             return std::make_unique<PathMLTEstimator>(scene, m_maxDepth, m_rrDepth, m_hideEmitters, minLength);
         if (m_technique == "bdpt")
-            return std::make_unique<BdptMLTEstimator>(scene, m_maxDepth, m_rrDepth, m_hideEmitters, minLength);
+            return std::make_unique<BdptMLTEstimator>(scene, m_maxDepth, m_rrDepth, m_hideEmitters, minLength,
+                                                      *m_generator);
         fail("renderer 'pssmlt': unknown technique '{}'", m_technique);
     }
 
@@ -145,6 +150,7 @@ private:
     float m_largeStepProb, m_sigma;
     std::int64_t m_directSamples;
     std::string m_technique;
+    Ref<IPathGenerator> m_generator;
 };
 
 /// One group of chains: the whole-film block it splats into, its counts.

@@ -1,12 +1,13 @@
 #pragma once
-// The vertices of bidirectional path tracing (bdpt). A path of k segments has k + 1
+// The vertices of path space, as every bidirectional method records them (bdpt, pssmlt's
+// bidirectional estimator; written by an IPathGenerator). A path of k segments has k + 1
 // vertices x0 … xk and can be sampled by k + 2 strategies (s, t): s vertices traced from a
 // light, t from the camera, joined by one connecting segment. Each vertex carries the
 // subpath throughput `beta` up to it and two densities *per unit area* (Veach 1997,
 // §10.2): pdfFwd, the density with which its own subpath produced it, and pdfRev, the
 // density with which the opposite subpath would have produced it. Their ratios give
 // every strategy's density relative to the one used, hence the MIS weights
-// (bdpt_connect.hpp). Delta (specular) vertices cannot be connected; their densities are
+// (components/renderer/bdpt_connect.hpp). Delta (specular) vertices cannot be connected; their densities are
 // left 0, which the weight computation reads as "unchanged".
 // Reference: E. Veach, Robust Monte Carlo Methods for Light Transport Simulation, PhD
 // thesis, 1997, ch. 10; E. Lafortune, Y. Willems 1993; Pharr, Jakob, Humphreys,
@@ -18,12 +19,12 @@
 #include <cmath>
 #include <cstdint>
 
-namespace effigi::bdpt {
+namespace effigi {
 
-enum class VertexType : std::uint8_t { Camera, Light, Surface };
+enum class PathVertexType : std::uint8_t { Camera, Light, Surface };
 
-struct Vertex {
-    VertexType type = VertexType::Surface;
+struct PathVertex {
+    PathVertexType type = PathVertexType::Surface;
     SampledSpectrum beta{0.f};
     /// Position and normals; for Camera and Light vertices only p and n are meaningful.
     SurfaceInteraction si;
@@ -34,23 +35,23 @@ struct Vertex {
 
     const Point3f& p() const { return si.p; }
     /// The emitter found here: a Light vertex's own, or the area light of a surface.
-    const IEmitter* emitter() const { return type == VertexType::Light ? light : si.emitter; }
-    bool isDeltaLight() const { return type == VertexType::Light && light->isDelta(); }
+    const IEmitter* emitter() const { return type == PathVertexType::Light ? light : si.emitter; }
+    bool isDeltaLight() const { return type == PathVertexType::Light && light->isDelta(); }
     /// Normal for the cosines of the geometry term: shading normal on surfaces.
-    Normal3f ns() const { return type == VertexType::Surface ? Normal3f(si.shading.n) : si.n; }
+    Normal3f ns() const { return type == PathVertexType::Surface ? Normal3f(si.shading.n) : si.n; }
 
     /// A strategy may end a subpath here and connect it to the other one.
     bool connectible() const {
         switch (type) {
-        case VertexType::Camera: return true;
-        case VertexType::Light: return !(light->flags() & EmitterDeltaDirection);
-        case VertexType::Surface: return si.bsdf && !si.bsdf->isPureSpecular();
+        case PathVertexType::Camera: return true;
+        case PathVertexType::Light: return !(light->flags() & EmitterDeltaDirection);
+        case PathVertexType::Surface: return si.bsdf && !si.bsdf->isPureSpecular();
         }
         return false;
     }
 
     /// The area density at `next` of a solid-angle density pdfDir at this vertex.
-    float toArea(float pdfDir, const Vertex& next) const {
+    float toArea(float pdfDir, const PathVertex& next) const {
         Vector3f w = next.p() - p();
         float d2 = lengthSquared(w);
         if (!(d2 > 0.f)) return 0.f;
@@ -59,17 +60,17 @@ struct Vertex {
         return pdf;
     }
 
-    static Vertex camera(const Point3f& p, const SampledSpectrum& beta) {
-        Vertex v;
-        v.type = VertexType::Camera;
+    static PathVertex camera(const Point3f& p, const SampledSpectrum& beta) {
+        PathVertex v;
+        v.type = PathVertexType::Camera;
         v.si.p = p;
         v.beta = beta;
         return v;
     }
-    static Vertex emitterPoint(const IEmitter* e, const Point3f& p, const Normal3f& n, const SampledSpectrum& beta,
+    static PathVertex emitterPoint(const IEmitter* e, const Point3f& p, const Normal3f& n, const SampledSpectrum& beta,
                                float pdfFwd) {
-        Vertex v;
-        v.type = VertexType::Light;
+        PathVertex v;
+        v.type = PathVertexType::Light;
         v.light = e;
         v.si.p = p;
         v.si.n = n;
@@ -78,8 +79,8 @@ struct Vertex {
         v.pdfFwd = pdfFwd;
         return v;
     }
-    static Vertex surface(const SurfaceInteraction& si, const SampledSpectrum& beta) {
-        Vertex v;
+    static PathVertex surface(const SurfaceInteraction& si, const SampledSpectrum& beta) {
+        PathVertex v;
         v.si = si;
         v.onSurface = true;
         v.beta = beta;
@@ -97,7 +98,7 @@ inline float shadingCorrection(const SurfaceInteraction& si, const Vector3f& wo,
 
 /// f at a surface vertex for light leaving toward `next`, arriving from si.wo's side; in
 /// importance transport with the shading-normal correction.
-inline SampledSpectrum scatter(const Vertex& v, const Vertex& next, const SampledWavelengths& lambda,
+inline SampledSpectrum scatter(const PathVertex& v, const PathVertex& next, const SampledWavelengths& lambda,
                                TransportMode mode) {
     Vector3f wi = normalize(next.p() - v.p());
     SampledSpectrum f = v.si.bsdf->f(v.si, v.si.toLocal(v.si.wo), v.si.toLocal(wi), lambda, mode);
@@ -105,4 +106,4 @@ inline SampledSpectrum scatter(const Vertex& v, const Vertex& next, const Sample
     return f;
 }
 
-} // namespace effigi::bdpt
+} // namespace effigi
