@@ -59,7 +59,7 @@ Walks walk(const PathContext& ctx, std::uint64_t n, std::uint64_t seed, std::vec
         w.camera.emplace_back();
         ctx.generator.cameraSubpath(ctx, fs.ray, fs.weight, sampler, fs.lambda, w.camera.back(), escape);
         w.light.emplace_back();
-        ctx.generator.lightSubpath(ctx, sampler, fs.lambda, w.light.back());
+        ctx.generator.lightSubpath(ctx, fs.ray.time, sampler, fs.lambda, w.light.back());
         if (lambdas) lambdas->push_back(fs.lambda);
     }
     return w;

@@ -52,7 +52,7 @@ std::optional<double> analyticArea(const Target& t) {
     for (const auto& [name, value] : t.configuration().params) p.set(name, value);
     t.registry().info(t.tag(), t.component()).schema.validate(p);
     glm::dmat3 m(1.0);
-    if (p.has("to_world")) m = glm::dmat3(glm::mat3(p.getTransform("to_world").matrix()));
+    if (p.has("to_world")) m = glm::dmat3(glm::mat3(p.getAnimatedTransform("to_world").first().matrix()));
     auto par = [&](int i, int j) { return glm::length(glm::cross(m[i], m[j])); };  // |M e_i × M e_j|
     const std::string& c = t.component();
     const double pi = std::numbers::pi;

@@ -37,7 +37,7 @@ void userBounds(const RTCBoundsFunctionArguments* args) {
 Ray lane(RTCRayN* ray, unsigned N, unsigned i) {
     return Ray{{RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i)},
                {RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i)},
-               RTCRayN_tfar(ray, N, i)};
+               RTCRayN_tfar(ray, N, i), RTCRayN_time(ray, N, i)};
 }
 
 void userIntersect(const RTCIntersectFunctionNArguments* args) {
@@ -219,7 +219,7 @@ private:
         r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
         r.tnear = MinT;
         r.tfar = ray.tMax;
-        r.time = 0.f;
+        r.time = ray.time;
         r.mask = 0xffffffffu;
         r.id = 0;
         r.flags = 0;
@@ -229,7 +229,7 @@ private:
         r.dir_x[j] = ray.d.x, r.dir_y[j] = ray.d.y, r.dir_z[j] = ray.d.z;
         r.tnear[j] = MinT;
         r.tfar[j] = ray.tMax;
-        r.time[j] = 0.f;
+        r.time[j] = ray.time;
         r.mask[j] = 0xffffffffu;
         r.id[j] = unsigned(j);
         r.flags[j] = 0;

@@ -101,7 +101,7 @@ inline bool intersectPrimitive(const Primitive& p, const Ray& ray, const Waterti
         if (hit) *hit = Hit{t, p.shape, p.prim, {b1, b2}};
         return true;
     }
-    Ray r{ray.o, ray.d, tMax};
+    Ray r{ray.o, ray.d, tMax, ray.time};
     float t;
     Point2f uv;
     if (!shapes[p.shape]->intersect(r, t, uv)) return false;

@@ -59,9 +59,9 @@ public:
         float a = (0.5f * m_size.x - s.pFilm.x) / m_radius, b = (0.5f * m_size.y - s.pFilm.y) / m_radius;
         float rho = std::sqrt(a * a + b * b);
         weight = SampledSpectrum(rho <= 1.f ? 1.f : 0.f);
-        if (!(rho > 0.f)) return rayAlong(Vector3f(0.f, 0.f, 1.f));
+        if (!(rho > 0.f)) return rayAlong(Vector3f(0.f, 0.f, 1.f), s.time);
         float theta = std::min(rho * m_halfFov, Pi), st = std::sin(theta) / rho;
-        return rayAlong(normalize(Vector3f(st * a, st * b, std::cos(theta))));
+        return rayAlong(normalize(Vector3f(st * a, st * b, std::cos(theta))), s.time);
     }
 
 private:

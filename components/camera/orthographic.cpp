@@ -78,7 +78,7 @@ public:
         ray.d = m_dir;
         ray.tMax = m_far - m_near;
         weight = SampledSpectrum(1.f);
-        return ray;
+        return timed(ray, s.time);
     }
 
     /// The inverse of generateRay: project ref along the viewing axis onto the near plane.

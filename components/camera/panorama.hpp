@@ -24,8 +24,6 @@ inline Vector3f azimuthPolar(float phi, float theta) {
 inline void addPanoramaParams(Schema& s) {
     s.transform("to_world", "Camera-to-world transform (lookat); rotation and translation only");
     addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start this far from the eye");
-    s.ignored("shutter_open", "no motion blur: scenes are static");
-    s.ignored("shutter_close", "no motion blur: scenes are static");
 }
 
 /// A conformance view shared by the panoramic cameras' schemas: off-centre, looking down.
@@ -43,13 +41,14 @@ protected:
         m_origin = m_toWorld.point(Point3f(0.f));
     }
 
-    /// The world ray along the camera-space direction `local` (unit), clipped by distance.
-    Ray rayAlong(const Vector3f& local) const {
+    /// The world ray along the camera-space direction `local` (unit), clipped by distance,
+    /// at the shutter fraction u.
+    Ray rayAlong(const Vector3f& local, float u) const {
         Ray ray;
         ray.d = normalize(m_toWorld.vector(local));
         ray.o = m_origin + ray.d * m_near;
         ray.tMax = m_far - m_near;
-        return ray;
+        return timed(ray, u);
     }
 
     Vector2f m_size{1.f};

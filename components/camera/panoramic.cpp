@@ -67,7 +67,7 @@ public:
         Point2f q = s.pFilm / m_size;
         float alpha = m_hfov * (0.5f - q.x), h = m_tanHalf * (1.f - 2.f * q.y);
         weight = SampledSpectrum(1.f);
-        return rayAlong(normalize(Vector3f(std::sin(alpha), h, std::cos(alpha))));
+        return rayAlong(normalize(Vector3f(std::sin(alpha), h, std::cos(alpha))), s.time);
     }
 
 private:

@@ -42,8 +42,6 @@ public:
         camera::addCommonParams(s, "Near clip distance (> 0, < far_clip); rays start on the near plane");
         // Mitsuba's sensors take these too; a pinhole camera of a static scene has no use for them.
         s.ignored("focus_distance", "a pinhole camera keeps everything in focus (thinlens uses it)");
-        s.ignored("shutter_open", "no motion blur: scenes are static");
-        s.ignored("shutter_close", "no motion blur: scenes are static");
         // Conformance (conformance/camera_suite.cpp): the default 50mm lens, an off-centre
         // lookat, the fov near both ends of (0, 180), near_clip close to far_clip, an
         // off-axis (principal point) projection with fov along y, and a focal length.
@@ -78,7 +76,7 @@ public:
         ray.o = m_origin + ray.d * (m_near / local.z);
         ray.tMax = (m_far - m_near) / local.z;
         weight = SampledSpectrum(1.f);
-        return ray;
+        return timed(ray, s.time);
     }
 
     /// The inverse of generateRay's map (ICameraImportance): project ref onto the image

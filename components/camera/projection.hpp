@@ -38,6 +38,8 @@ inline void addCommonParams(Schema& s, const char* nearDoc) {
     s.child("film", "film", "Film the image is accumulated on (default: hdrfilm)");
     s.child("sampler", "sampler", "Sample generator (default: independent)");
     s.child("medium", "medium", "Participating medium the camera is in (optional; volpath)");
+    s.real("shutter_open", 0.0, "Time the shutter opens; rays are timed uniformly until shutter_close");
+    s.real("shutter_close", 0.0, "Time the shutter closes (>= shutter_open; equal: no motion blur)");
 }
 
 /// fov (with a default, or none: then focal_length decides), fov_axis, focal_length.
@@ -145,20 +147,46 @@ public:
     IFilm& film() const override { return *m_film; }
     ISampler& sampler() const override { return *m_sampler; }
     const IMedium* medium() const override { return m_medium.get(); }
+    float shutterOpen() const override { return m_shutterOpen; }
+    float shutterClose() const override { return m_shutterClose; }
+    bool moves() const override { return m_motion.isAnimated(); }
 
 protected:
     explicit CameraBase(const Properties& p)
-        : m_toWorld(p.getTransform("to_world")),
+        : m_motion(p.getAnimatedTransform("to_world")), m_toWorld(m_motion.first()),
           m_film(nestedOrDefault<IFilm>(p, "film", "hdrfilm")),
-          m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")), m_medium(p.get<IMedium>("medium")) {
+          m_sampler(nestedOrDefault<ISampler>(p, "sampler", "independent")), m_medium(p.get<IMedium>("medium")),
+          m_shutterOpen(p.getFloat("shutter_open")), m_shutterClose(p.getFloat("shutter_close")) {
         readClip(p, m_near, m_far);
+        if (m_shutterClose < m_shutterOpen)
+            failAt(p.whereOf("shutter_close"), "{}: 'shutter_close' = {} is before 'shutter_open' = {}", p.describe(),
+                   m_shutterClose, m_shutterOpen);
+        // A moving camera carries its rays rigidly from the first pose to the pose at their
+        // time, so ray lengths (the clip distances) must survive every pose.
+        if (moves())
+            for (const AnimatedTransform::Key& k : m_motion.keys()) requireRigid(p, k.transform);
+        m_fromRest = m_toWorld.inverse();
     }
 
-    Transform m_toWorld;
+    /// The ray of the first pose, timed within the shutter interval (u in [0, 1)) and,
+    /// for a moving camera, carried to the pose at that time.
+    Ray timed(Ray ray, float u) const {
+        ray.time = m_shutterOpen + u * (m_shutterClose - m_shutterOpen);
+        if (!moves()) return ray;
+        const Transform delta = m_motion.at(ray.time) * m_fromRest;
+        ray.o = delta.point(ray.o);
+        ray.d = normalize(delta.vector(ray.d));
+        return ray;
+    }
+
+    AnimatedTransform m_motion;
+    Transform m_toWorld;  ///< the first pose (the only one of a still camera)
+    Transform m_fromRest;
     Ref<IFilm> m_film;
     Ref<ISampler> m_sampler;
     Ref<IMedium> m_medium;
     float m_near = 1e-2f, m_far = 1e4f;
+    float m_shutterOpen = 0.f, m_shutterClose = 0.f;
 };
 
 /// Base of the projective cameras: CameraBase with the light tracers' connection.

@@ -48,7 +48,7 @@ public:
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
         Point2f q = s.pFilm / m_size;
         weight = SampledSpectrum(1.f);
-        return rayAlong(camera::azimuthPolar(Pi * (1.f - 2.f * q.x), Pi * q.y));
+        return rayAlong(camera::azimuthPolar(Pi * (1.f - 2.f * q.x), Pi * q.y), s.time);
     }
 };
 

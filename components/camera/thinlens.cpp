@@ -112,7 +112,7 @@ public:
         ray.o = m_toWorld.point(Point3f(lensPoint + d * (m_near * invZ)));
         ray.tMax = (m_far - m_near) * invZ;
         weight = SampledSpectrum(lensWeight);
-        return ray;
+        return timed(ray, s.time);
     }
 
     /// The inverse of generateRay for the lens point of sample u: the ray from that lens

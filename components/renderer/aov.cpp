@@ -73,7 +73,10 @@ public:
             for (const char* c : {".R", ".G", ".B", ".A"}) m_channels.push_back(n.name + c);
             for (const std::string& c : own) m_channels.push_back(n.name + "." + c);
             m_nested.push_back({n.renderer, own.size()});
-            if (const IRenderer* r = query<IRenderer>(n.renderer.get())) m_media = std::min(m_media, r->mediaSupport());
+            if (const IRenderer* r = query<IRenderer>(n.renderer.get())) {
+                m_media = std::min(m_media, r->mediaSupport());
+                m_motion = m_motion && r->rendersMotion();
+            }
         }
         parseAovs(p);
         if (m_aovs.empty() && m_nested.empty())
@@ -86,6 +89,8 @@ public:
     std::vector<std::string> sampleChannels() const override { return m_channels; }
     /// What the weakest of the nested renderers does with media.
     MediaSupport mediaSupport() const override { return m_media; }
+    /// Motion blur if every nested renderer renders it (the AOVs come from timed camera rays).
+    bool rendersMotion() const override { return m_motion; }
 
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float* channels) const override {
@@ -166,6 +171,7 @@ private:
 
     std::vector<Nested> m_nested;
     MediaSupport m_media = MediaSupport::Ignores;
+    bool m_motion = true;
     std::vector<Aov> m_aovs;
     std::vector<std::string> m_channels;  // nested renderers' first, then the AOVs
     Spectrum m_white;

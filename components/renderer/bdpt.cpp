@@ -161,6 +161,8 @@ public:
           m_generator(pathGenerator(p)) {}
 
     RenderStats render(const Scene& scene, const RenderControl& control) override;
+    /// Moving shapes: both subpaths of a sample share the camera ray's time.
+    bool rendersMotion() const override { return true; }
 
 private:
     int m_maxDepth, m_rrDepth;

@@ -70,7 +70,7 @@ void sample(const Context& ctx, bool hideEmitters, const Ray& ray, const Sampled
     Escape escape;
     ctx.generator.cameraSubpath(ctx, ray, weight, sampler, lambda, cam, escape);
     startStream(1);
-    ctx.generator.lightSubpath(ctx, sampler, lambda, light);
+    ctx.generator.lightSubpath(ctx, ray.time, sampler, lambda, light);
     startStream(2);
     environment(ctx, hideEmitters, cam, escape, sampler, lambda, sink);
     const int nCam = int(cam.size()), nLight = int(light.size());

@@ -61,6 +61,7 @@ public:
     }
 
     MediaSupport mediaSupport() const override { return MediaSupport::Ignores; }  // as Mitsuba's direct
+    bool rendersMotion() const override { return true; }
 
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float*) const override {

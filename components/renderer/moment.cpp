@@ -43,7 +43,10 @@ public:
             for (const std::string& c : own) m_channels.push_back(n.name + "." + c);
             for (const char* c : {".X", ".Y", ".Z"}) m_channels.push_back(n.name + c);
             m_nested.push_back({n.renderer, own.size()});
-            if (const IRenderer* r = query<IRenderer>(n.renderer.get())) m_media = std::min(m_media, r->mediaSupport());
+            if (const IRenderer* r = query<IRenderer>(n.renderer.get())) {
+                m_media = std::min(m_media, r->mediaSupport());
+                m_motion = m_motion && r->rendersMotion();
+            }
         }
         if (m_nested.empty()) failAt(p.where(), "renderer 'moment': needs at least one nested renderer");
         const std::size_t first = m_channels.size();
@@ -53,6 +56,8 @@ public:
     std::vector<std::string> sampleChannels() const override { return m_channels; }
     /// What the weakest of the nested renderers does with media.
     MediaSupport mediaSupport() const override { return m_media; }
+    /// Motion blur if every nested renderer renders it (the AOVs come from timed camera rays).
+    bool rendersMotion() const override { return m_motion; }
 
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float* channels) const override {
@@ -83,6 +88,7 @@ private:
 
     std::vector<Nested> m_nested;
     MediaSupport m_media = MediaSupport::Renders;
+    bool m_motion = true;
     std::vector<std::string> m_channels;  // first moments, then "m2_" + each
 };
 

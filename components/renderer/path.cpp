@@ -61,6 +61,7 @@ public:
     }
 
     MediaSupport mediaSupport() const override { return MediaSupport::Ignores; }  // as Mitsuba's path
+    bool rendersMotion() const override { return true; }
 
     /// One camera sample (ISampleRenderer): what moment and aov nest.
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,

@@ -48,6 +48,7 @@ public:
           m_hideEmitters(p.getBool("hide_emitters")) {}
 
     MediaSupport mediaSupport() const override { return MediaSupport::Renders; }
+    bool rendersMotion() const override { return true; }
 
     /// One camera sample (ISampleRenderer): the ray starts in the camera's medium.
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,

@@ -35,6 +35,7 @@ public:
     SampledSpectrum li(Ray ray, const IMedium* medium, SampledWavelengths& lambda, ISampler& sampler) const {
         VolPathState s;
         s.prevP = ray.o;
+        s.time = ray.time;
         for (;;) {
             SurfaceInteraction si;
             const bool hit = m_scene.intersect(ray, si);
@@ -136,7 +137,7 @@ private:
         s.rL = s.rU / ps->pdf;
         s.specular = !nee;
         s.prevP = p;
-        ray = Ray{p, ps->wi, Infinity};
+        ray = Ray{p, ps->wi, Infinity, ray.time};
         return survives(s, sampler.get1D());
     }
 

@@ -35,6 +35,7 @@ struct VolPathState {
     int depth = 1;              ///< the segment being traced, counted from the camera
     int nullCrossings = 0;
     Point3f prevP{0.f};         ///< the last real scattering point
+    float time = 0.f;           ///< the camera ray's time (shadow rays from inside media keep it)
 };
 
 /// The sampler dimensions of one light sample, drawn whether or not it is used, so that
@@ -76,7 +77,7 @@ protected:
             shadow = std::isinf(es.dist) ? si->spawnRay(es.wi) : si->spawnRayTo(es.p);
             medium = mediumAfter(*si, es.wi, medium);
         } else {
-            shadow = std::isinf(es.dist) ? Ray{p, es.wi, Infinity} : Ray{p, es.p - p, 1.f - ShadowEpsilon};
+            shadow = std::isinf(es.dist) ? Ray{p, es.wi, Infinity, s.time} : Ray{p, es.p - p, 1.f - ShadowEpsilon, s.time};
         }
         SampledSpectrum rU(1.f), rL(1.f);
         PCG32 rng = trackingRng(draw.uTrack0, draw.uTrack1);
@@ -109,7 +110,7 @@ protected:
             if (T.isBlack()) return T;
             medium = mediumAfter(si, ray.d, medium);
             // On along the same line; t values carry over since d is the same vector.
-            ray = Ray{si.offsetOrigin(ray.d), ray.d, ray.tMax - si.t};
+            ray = Ray{si.offsetOrigin(ray.d), ray.d, ray.tMax - si.t, ray.time};
             if (!(ray.tMax > 0.f)) return T;
         }
         return SampledSpectrum(0.f);

@@ -45,7 +45,7 @@ SampledSpectrum sampleMajorant(const IMedium& medium, const Ray& ray, float tMax
     if (!(len > 0.f)) return SampledSpectrum(1.f);
     const Vector3f dir = ray.d / len;
     const float end = std::isinf(tMax) ? std::numeric_limits<float>::infinity() : tMax * len;
-    const Ray unit{ray.o, dir, Infinity};
+    const Ray unit{ray.o, dir, Infinity, ray.time};
     SampledSpectrum T(1.f);
     for (float t0 = 0.f; t0 < end;) {
         const MajorantSegment seg = medium.majorant(unit, t0, end, lambda);

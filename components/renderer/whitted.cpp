@@ -83,6 +83,8 @@ public:
         m_maxDepth = d < 0 ? HardCap : int(d);
     }
 
+    bool rendersMotion() const override { return true; }
+
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& cameraRay, SampledWavelengths& lambda,
                                    ISampler& sampler, float*) const override {
         SampledSpectrum L(0.f), beta(1.f);

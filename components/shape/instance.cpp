@@ -22,8 +22,14 @@
 // are exact for rotation, translation and uniform scale (for other transforms the area
 // is the member area times |det|^(2/3), an approximation).
 //
-// Parameters: to_world (affine, invertible; default identity) and exactly one nested or
-// referenced shapegroup. Reference: Mitsuba 3 documentation, "Instance (instance)".
+// Motion: to_world may be an <animation> (Mitsuba 0.6's keyframes, AnimatedTransform);
+// each ray is then carried into group space with the pose at its time (Ray::time), and
+// the bounds hold every pose. The loader places any shape with an animated to_world this
+// way (as the only member of a group of its own), which gives rigid motion blur on every
+// accelerator without a per-shape motion code path. Area and sampling use the first pose.
+//
+// Parameters: to_world (affine, invertible at every key; default identity; may be an
+// <animation>) and exactly one nested or referenced shapegroup. Reference: Mitsuba 3 documentation, "Instance (instance)".
 #include "shapegroup.hpp"
 
 #include "effigi/core/registry.hpp"
@@ -50,6 +56,10 @@ public:
                                                                               Transform::rotate({1.f, 1.f, 1.f}, 30.f) *
                                                                               Transform::scale(Vector3f(2.f))}}});
             s.addConformance({"mirrored small", {{"shapegroup", *g}, {"to_world", Transform::scale({-1e-2f, 1e-2f, 1e-2f})}}});
+            // Moving: the suite's rays are at time 0, where the first pose holds.
+            s.addConformance({"moving", {{"shapegroup", *g},
+                                         {"to_world", AnimatedTransform({{0.f, Transform::rotate({0.f, 1.f, 0.f}, 20.f)},
+                                                                         {1.f, Transform::translate({1.f, 0.5f, 0.f})}})}}});
         }
         return s;
     }
@@ -76,28 +86,23 @@ public:
         if (!m_group)
             failAt(p.whereOf("shapegroup"), "{}: the nested or referenced shape must be a shapegroup, got '{}'",
                    p.describe(), group ? group->typeName() : std::string("nothing"));
-        if (p.has("to_world")) m_toWorld = p.getTransform("to_world");
-
-        const glm::mat4& m = m_toWorld.matrix();
-        bool affine = m[0][3] == 0.f && m[1][3] == 0.f && m[2][3] == 0.f && m[3][3] == 1.f;
-        float det = glm::determinant(glm::mat3(m));
-        if (!m_toWorld.isFinite() || !affine || !(std::abs(det) > 0.f) || !std::isfinite(det))
-            failAt(p.whereOf("to_world"), "{}: parameter 'to_world' must be a finite, invertible affine transform",
-                   p.describe());
-        m_linear = glm::mat3(m);
-        m_normalMatrix = glm::transpose(glm::inverse(m_linear));
-        m_areaScale = std::pow(std::abs(det), 2.f / 3.f);
-
-        // World bounds: the eight transformed corners of the group's bounds.
-        BBox3f b = m_group->bbox();
-        if (b.valid()) {
-            for (int i = 0; i < 8; ++i)
-                m_bbox.expand(m_toWorld.point({i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y,
-                                               i & 4 ? b.max.z : b.min.z}));
-        } else {
-            // An empty group: a point box, so accelerators get finite bounds; it is never hit.
-            m_bbox.expand(m_toWorld.point(Point3f(0.f)));
+        if (p.has("to_world")) m_animation = p.getAnimatedTransform("to_world");
+        for (const AnimatedTransform::Key& k : m_animation.keys()) {
+            const glm::mat4& m = k.transform.matrix();
+            bool affine = m[0][3] == 0.f && m[1][3] == 0.f && m[2][3] == 0.f && m[3][3] == 1.f;
+            float det = glm::determinant(glm::mat3(m));
+            if (!k.transform.isFinite() || !affine || !(std::abs(det) > 0.f) || !std::isfinite(det))
+                failAt(p.whereOf("to_world"), "{}: parameter 'to_world' must be a finite, invertible affine transform{}",
+                       p.describe(), m_animation.isAnimated() ? fmt::format(" (key at time {})", k.time) : "");
         }
+        m_rest = Placement(m_animation.first());
+        m_areaScale = std::pow(std::abs(glm::determinant(m_rest.linear)), 2.f / 3.f);
+
+        // World bounds: the group's bounds carried through every pose.
+        BBox3f b = m_group->bbox();
+        // An empty group: a point box, so accelerators get finite bounds; it is never hit.
+        if (!b.valid()) b.expand(Point3f(0.f));
+        m_bbox = m_animation.motionBounds(b);
 
         m_members = m_group->shapes();
         for (const IShape* s : m_members) {
@@ -110,14 +115,15 @@ public:
 
     bool intersect(const Ray& ray, float& t, Point2f& uv) const override {
         Hit h;
-        if (!m_group->intersector().intersect(toGroup(ray), h)) return false;
+        if (!m_group->intersector().intersect(placementAt(ray.time).toGroup(ray), h)) return false;
         t = h.t;
         uv = Point2f(0.f);
         return true;
     }
 
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const override {
-        Ray local = toGroup(ray);
+        const Placement pose = placementAt(ray.time);
+        Ray local = pose.toGroup(ray);
         // Just above hit.t, so the same closest hit is found again (see the file comment).
         local.tMax = std::nextafter(std::max(hit.t, 0.f), Infinity) * (1.f + 0x1p-20f);
         Hit h;
@@ -133,7 +139,7 @@ public:
             return si;
         }
         si = m_members[h.shape]->interaction(local, h);
-        toWorld(si);
+        pose.toWorld(si);
         si.t = hit.t;
         si.wo = normalize(-ray.d);
         return si;
@@ -152,10 +158,15 @@ public:
         float lo = i ? m_areaCdf[i - 1] : 0.f, width = m_areaCdf[i] - lo;
         float ux = width > 0.f ? std::clamp((target - lo) / width, 0.f, OneMinusEpsilon) : 0.f;
         ps = m_members[i]->samplePosition({ux, u.y});
-        ps.p = m_toWorld.point(ps.p);
-        ps.n = normalizeOr(m_normalMatrix * ps.n, ps.n);
+        ps.p = m_rest.transform.point(ps.p);
+        ps.n = normalizeOr(m_rest.normalMatrix * ps.n, ps.n);
         ps.pdf = 1.f / area();
         return ps;
+    }
+
+    bool moves() const override {
+        return m_animation.isAnimated() || std::any_of(m_members.begin(), m_members.end(),
+                                                       [](const IShape* s) { return s->moves(); });
     }
 
     const IBSDF* bsdf() const override { return m_group->representativeBsdf(); }
@@ -163,43 +174,57 @@ public:
     IEmitter* emitter() override { return nullptr; }
 
 private:
-    Ray toGroup(const Ray& ray) const {
-        const glm::mat4& inv = m_toWorld.inverseMatrix();
-        return Ray{Point3f(inv * glm::vec4(ray.o, 1.f)), Vector3f(inv * glm::vec4(ray.d, 0.f)), ray.tMax};
-    }
-
     static Vector3f normalizeOr(const Vector3f& v, const Vector3f& fallback) {
         float l2 = dot(v, v);
         return l2 > 0.f && std::isfinite(l2) ? v / std::sqrt(l2) : fallback;
     }
 
-    /// Carry a member's surface description from group space to world space.
-    void toWorld(SurfaceInteraction& si) const {
-        si.p = m_toWorld.point(si.p);
-        si.n = normalizeOr(m_normalMatrix * si.n, si.n);
-        Vector3f n = normalizeOr(m_normalMatrix * si.shading.n, si.n);
-        // The member's tangent follows the surface; Gram-Schmidt against the new normal.
-        Vector3f s = m_linear * si.shading.s;
-        s -= n * dot(n, s);
-        float s2 = dot(s, s);
-        if (s2 > 1e-20f && std::isfinite(s2)) {
-            s /= std::sqrt(s2);
-            // Right-handed, like every other shape's frame (a mirroring to_world thus
-            // mirrors the member's bitangent direction, not the frame's handedness).
-            si.shading = Frame(s, cross(n, s), n);
-        } else {
-            si.shading = Frame(n);
+    /// One pose of the group: to_world, its linear part and the normals' matrix.
+    struct Placement {
+        Transform transform;
+        glm::mat3 linear{1.f}, normalMatrix{1.f};
+        Placement() = default;
+        explicit Placement(const Transform& t)
+            : transform(t), linear(t.matrix()), normalMatrix(glm::transpose(glm::inverse(linear))) {}
+
+        Ray toGroup(const Ray& ray) const {
+            const glm::mat4& inv = transform.inverseMatrix();
+            return Ray{Point3f(inv * glm::vec4(ray.o, 1.f)), Vector3f(inv * glm::vec4(ray.d, 0.f)), ray.tMax,
+                       ray.time};
         }
-        si.dpdu = m_linear * si.dpdu;
-        si.dpdv = m_linear * si.dpdv;
+
+        /// Carry a member's surface description from group space to world space.
+        void toWorld(SurfaceInteraction& si) const {
+            si.p = transform.point(si.p);
+            si.n = normalizeOr(normalMatrix * si.n, si.n);
+            Vector3f n = normalizeOr(normalMatrix * si.shading.n, si.n);
+            // The member's tangent follows the surface; Gram-Schmidt against the new normal.
+            Vector3f s = linear * si.shading.s;
+            s -= n * dot(n, s);
+            float s2 = dot(s, s);
+            if (s2 > 1e-20f && std::isfinite(s2)) {
+                s /= std::sqrt(s2);
+                // Right-handed, like every other shape's frame (a mirroring to_world thus
+                // mirrors the member's bitangent direction, not the frame's handedness).
+                si.shading = Frame(s, cross(n, s), n);
+            } else {
+                si.shading = Frame(n);
+            }
+            si.dpdu = linear * si.dpdu;
+            si.dpdv = linear * si.dpdv;
+        }
+    };
+
+    Placement placementAt(float time) const {
+        return m_animation.isAnimated() ? Placement(m_animation.at(time)) : m_rest;
     }
 
     Ref<IShapeGroup> m_group;
     std::span<const IShape* const> m_members;
     std::vector<float> m_areaCdf;  // cumulative member areas in group space
     float m_memberArea = 0.f;
-    Transform m_toWorld;
-    glm::mat3 m_linear{1.f}, m_normalMatrix{1.f};
+    AnimatedTransform m_animation;
+    Placement m_rest;  ///< the first pose (the only one of a still instance)
     float m_areaScale = 1.f;
     BBox3f m_bbox;
 };

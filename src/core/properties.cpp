@@ -11,7 +11,7 @@ namespace effigi {
 
 std::string propertyTypeName(const PropertyValue& v) {
     static const char* names[] = {"boolean", "integer", "float", "string", "point",
-                                  "vector", "rgb", "spectrum", "transform", "object"};
+                                  "vector", "rgb", "spectrum", "transform", "object", "animation"};
     if (auto* c = std::get_if<ComponentValue>(&v)) return c->tag.empty() ? "object" : c->tag;
     return names[v.index()];
 }
@@ -111,7 +111,18 @@ Vector3f Properties::getVector(const std::string& name) const {
 Transform Properties::getTransform(const std::string& name) const {
     const Entry& e = require(name);
     if (auto* t = std::get_if<Transform>(&e.value)) return *t;
+    if (auto* a = std::get_if<AnimatedTransform>(&e.value)) {
+        if (!a->isAnimated()) return a->first();
+        failAt(e.where, "{}: '{}' is an <animation>, but {} does not move (animated are shapes and cameras)",
+               describe(), name, describe());
+    }
     typeError(e, "a transform");
+}
+
+AnimatedTransform Properties::getAnimatedTransform(const std::string& name) const {
+    const Entry& e = require(name);
+    if (auto* a = std::get_if<AnimatedTransform>(&e.value)) return *a;
+    return AnimatedTransform(getTransform(name));
 }
 
 Spectrum Properties::getSpectrum(const std::string& name, SpectrumKind kind) const {

@@ -119,7 +119,7 @@ bool accepts(const ParamSpec& spec, const PropertyValue& v) {
     case ParamType::String: return is((std::string*)nullptr);
     case ParamType::Point:
     case ParamType::Vector: return is((PointValue*)nullptr) || is((VectorValue*)nullptr);
-    case ParamType::Transform: return is((Transform*)nullptr);
+    case ParamType::Transform: return is((Transform*)nullptr) || is((AnimatedTransform*)nullptr);
     case ParamType::Texture:
         if (auto* c = std::get_if<ComponentValue>(&v))
             return c->tag == (spec.componentTag.empty() ? std::string("texture") : spec.componentTag);

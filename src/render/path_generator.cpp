@@ -26,6 +26,10 @@ PathContext makePathContext(const Scene& scene, int maxDepth, int rrDepth, const
                                                   camera.toWorld().vector(Vector3f(0.f, 0.f, 1.f))) > 0.f))
         fail("{}: {} needs a camera with a density of directions (perspective or thinlens), not '{}'",
              scene.sourceFile, who, camera.typeName());
+    // Light paths reach the camera through its importance, which knows one pose only.
+    if (camera.moves())
+        fail("{}: {} does not render a moving camera (an animated to_world); moving shapes are fine",
+             scene.sourceFile, who);
     PathContext ctx{scene,   *importance, camera.toWorld().inverse(), {}, maxDepth < 0 ? UnboundedDepth : maxDepth,
                     rrDepth, generator};
     for (const IEmitter* e : scene.emitters())
@@ -87,11 +91,12 @@ void IPathGenerator::cameraSubpath(const PathContext& ctx, const Ray& ray, const
     Vector3f dLocal = ctx.cameraToLocal.vector(ray.d);
     float t0 = std::abs(dLocal.z) > 0.f ? -ctx.cameraToLocal.point(ray.o).z / dLocal.z : 0.f;
     path.push_back(PathVertex::camera(ray.o + ray.d * t0, weight));
+    path.back().si.time = ray.time;
     randomWalk(ctx, ray, weight, ctx.camera.pdfDirection(path[0].p(), ray.d), std::size_t(ctx.maxDepth) + 1,
                TransportMode::Radiance, sampler, lambda, path, &escape);
 }
 
-void IPathGenerator::lightSubpath(const PathContext& ctx, ISampler& sampler, SampledWavelengths& lambda,
+void IPathGenerator::lightSubpath(const PathContext& ctx, float time, ISampler& sampler, SampledWavelengths& lambda,
                                   std::vector<PathVertex>& path) const {
     path.clear();
     float uSel = sampler.get1D();
@@ -99,9 +104,11 @@ void IPathGenerator::lightSubpath(const PathContext& ctx, ISampler& sampler, Sam
     if (ctx.lights.empty() || ctx.maxDepth < 1) return;
     const IEmitter* e = ctx.lights[std::min(std::size_t(uSel * float(ctx.lights.size())), ctx.lights.size() - 1)];
     EmissionSample es = e->sampleEmission(uPos, uDir, lambda);
+    es.ray.time = time;
     float sel = ctx.lightPdf(e);
     if (!(es.pdfPosition > 0.f) || !(es.pdfDirection > 0.f) || es.L.isBlack()) return;
     path.push_back(PathVertex::emitterPoint(e, es.ray.o, es.n, es.L / (sel * es.pdfPosition), sel * es.pdfPosition));
+    path.back().si.time = time;
     float cosTheta = (e->flags() & EmitterSurface) ? std::abs(dot(es.n, es.ray.d)) : 1.f;
     SampledSpectrum beta = es.L * (cosTheta / (sel * es.pdfPosition * es.pdfDirection));
     randomWalk(ctx, es.ray, beta, es.pdfDirection, std::size_t(ctx.maxDepth), TransportMode::Importance, sampler,

@@ -14,6 +14,7 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
       m_accel(std::move(accel)), m_renderer(std::move(renderer)) {
     if (!m_camera) fail("scene has no camera");
     m_hasMedia = m_camera->medium() != nullptr;
+    m_hasMotion = m_camera->moves();
     if (!m_accel) fail("scene has no accelerator");
     if (!m_renderer) fail("scene has no renderer");
 
@@ -28,6 +29,7 @@ Scene::Scene(std::vector<Ref<IShape>> shapes, std::vector<Ref<IEmitter>> emitter
         if (const IEmitter* e = s->emitter()) m_emitterPtrs.push_back(e);
         if (const IBSDF* b = s->bsdf(); b && b->hasNull()) m_hasNull = true;
         if (s->isMediumTransition()) m_hasMedia = true;
+        if (s->moves()) m_hasMotion = true;
     }
     // A top-level emitter that a shape references (Mitsuba's <emitter id="x"/> ... <ref
     // id="x"/> inside a shape) is that shape's emitter: listing it twice would double its
@@ -57,7 +59,7 @@ SampledSpectrum Scene::transmittance(Ray ray, const SampledWavelengths& lambda) 
         if (T.isBlack()) return T;
         // On along the same line from just beyond the surface; the parameter left shrinks
         // by the distance covered (d is the same vector, so t values carry over).
-        Ray next{si.offsetOrigin(ray.d), ray.d, ray.tMax - si.t};
+        Ray next{si.offsetOrigin(ray.d), ray.d, ray.tMax - si.t, ray.time};
         if (!(next.tMax > 0.f)) return T;
         ray = next;
     }

@@ -92,7 +92,9 @@ FilmSample sampleCamera(const ICamera& camera, ISampler& sampler, const Point2i&
     cs.lambda = SampledWavelengths::sampleVisible(sampler.get1D());
     cs.pFilm = Point2f(pixel) + sampler.getPixel2D();
     const Point2f offset(camera.film().cropOffset());
-    cs.ray = camera.generateRay({cs.pFilm + offset, sampler.get2D(), 0.f}, cs.lambda, cs.weight);
+    const Point2f lens = sampler.get2D();
+    const float time = camera.hasShutterInterval() ? sampler.get1D() : 0.f;  // a dimension only when it matters
+    cs.ray = camera.generateRay({cs.pFilm + offset, lens, time}, cs.lambda, cs.weight);
     return cs;
 }
 

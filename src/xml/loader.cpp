@@ -4,6 +4,8 @@
 // and a cycle of references is an error naming the chain.
 #include "effigi/xml/loader.hpp"
 
+#include "animation.hpp"
+
 #include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/render/scene_range.hpp"
@@ -145,8 +147,10 @@ struct Builder {
             }
         }
         Ref<IComponent> obj;
+        const auto motion = tag == "shape" ? xml::detail::takeShapeMotion(props) : std::nullopt;
         try {
             obj = registry.create(tag, type, props);
+            if (motion && obj) obj = xml::detail::placeMoving(registry, obj, *motion, props);
         } catch (const Error&) {
             throw;
         } catch (const std::exception& ex) {
@@ -266,6 +270,11 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
                                          std::move(renderer));
     scene->sourceFile = root.where.file;
     if (scene->hasMedia()) checkMediaSupport(scene->renderer(), rendererAt.known() ? rendererAt : root.where);
+    if (scene->hasMotion() && !scene->renderer().rendersMotion())
+        failAt(rendererAt.known() ? rendererAt : root.where,
+               "{} does not render motion blur, and a shape or the camera is animated: use path, volpath, direct, "
+               "whitted or bdpt",
+               scene->renderer().typeName());
     return scene;
 }
 

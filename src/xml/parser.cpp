@@ -28,7 +28,7 @@ using detail::upgradeTag;
 namespace {
 
 const std::vector<std::string> kPropertyTags = {"boolean", "integer", "float",    "string",    "point",
-                                                "vector",  "rgb",     "spectrum", "blackbody", "transform"};
+                                                "vector",  "rgb",     "spectrum", "blackbody", "transform", "animation"};
 const std::vector<std::string> kObjectTags = {
     "function", "integrator", "sampler", "generator", "warp",   "rootfinder",      "shape",
     "accelerator", "bsdf",   "texture", "emitter",   "camera", "sensor",          "rfilter",
@@ -256,22 +256,27 @@ private:
         PropertyValue value;
         if (e.tag == "transform") {
             e.allowOnly({"name"});
-            Transform m;
+            value = transformOps(x, f, e);
+        } else if (e.tag == "animation") {
+            // Mitsuba 0.6's keyframed transform: <transform time="t"> children in
+            // increasing time (AnimatedTransform interpolates between them).
+            e.allowOnly({"name"});
+            std::vector<AnimatedTransform::Key> keys;
             for (pugi::xml_node c : x.children()) {
                 if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
                     e.fail("unexpected text '{}'", excerpt(c.value()));
                 if (c.type() != pugi::node_element) continue;
-                Element op = element(c, f, true);
-                op.context = e.describe();
-                if (!c.first_child().empty()) op.fail("a transform operation takes no content");
-                detail::applyTransformOp(op, m);
+                Element k = element(c, f, true);
+                k.context = e.describe();
+                if (k.tag != "transform") k.fail("an <animation> holds only <transform time=\"...\"> keyframes");
+                k.allowOnly({"time"});
+                const float time = float(detail::parseNumber(k, "time", k.require("time")));
+                if (!keys.empty() && !(time > keys.back().time))
+                    k.fail("keyframe times must increase (this one is {} after {})", time, keys.back().time);
+                keys.push_back({time, transformOps(c, f, k)});
             }
-            const glm::mat4 &a = m.matrix(), &b = m.inverseMatrix();
-            for (int i = 0; i < 4; ++i)
-                for (int j = 0; j < 4; ++j)
-                    if (!std::isfinite(a[i][j]) || !std::isfinite(b[i][j]))
-                        e.fail("the composed transform is not finite (or is singular)");
-            value = m;
+            if (keys.empty()) e.fail("an <animation> needs at least one <transform time=\"...\"> keyframe");
+            value = AnimatedTransform(std::move(keys));
         } else {
             for (pugi::xml_node c : x.children())
                 if (c.type() == pugi::node_element || c.type() == pugi::node_pcdata)
@@ -286,6 +291,26 @@ private:
         }
         checkName(names, node, e);
         node.props.set(e.name, std::move(value), e.where);
+    }
+
+    /// The transform composed of the operations inside x (<translate>, <rotate>, ...).
+    Transform transformOps(pugi::xml_node x, const SourceFile& f, const Element& e) {
+        Transform m;
+        for (pugi::xml_node c : x.children()) {
+            if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata)
+                e.fail("unexpected text '{}'", excerpt(c.value()));
+            if (c.type() != pugi::node_element) continue;
+            Element op = element(c, f, true);
+            op.context = e.describe();
+            if (!c.first_child().empty()) op.fail("a transform operation takes no content");
+            detail::applyTransformOp(op, m);
+        }
+        const glm::mat4 &a = m.matrix(), &b = m.inverseMatrix();
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+                if (!std::isfinite(a[i][j]) || !std::isfinite(b[i][j]))
+                    e.fail("the composed transform is not finite (or is singular)");
+        return m;
     }
 
     void parseObject(pugi::xml_node x, const SourceFile& f, Node& parent, NameMap& names) {

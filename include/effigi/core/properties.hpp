@@ -3,6 +3,7 @@
 // children). Every entry remembers where it was written so errors can point at it.
 #include "effigi/core/component.hpp"
 #include "effigi/core/error.hpp"
+#include "effigi/math/animated_transform.hpp"
 #include "effigi/math/transform.hpp"
 #include "effigi/spectral/spectrum.hpp"
 
@@ -34,7 +35,7 @@ struct ComponentValue {
 };
 
 using PropertyValue = std::variant<bool, std::int64_t, double, std::string, PointValue, VectorValue,
-                                   RGBValue, SpectrumValue, Transform, ComponentValue>;
+                                   RGBValue, SpectrumValue, Transform, ComponentValue, AnimatedTransform>;
 
 /// Human-readable name of the type a PropertyValue holds ("float", "rgb", ...).
 std::string propertyTypeName(const PropertyValue& v);
@@ -78,7 +79,11 @@ public:
     std::filesystem::path getPath(const std::string& name) const;
     Point3f getPoint(const std::string& name) const;
     Vector3f getVector(const std::string& name) const;
+    /// A transform; an <animation> that moves is an error naming the parameter (only
+    /// components that call getAnimatedTransform move).
     Transform getTransform(const std::string& name) const;
+    /// A transform or an <animation> (a still transform is an animation of one key).
+    AnimatedTransform getAnimatedTransform(const std::string& name) const;
     /// A spectral parameter as a value (float, rgb or spectrum); RGB upsampled by kind.
     Spectrum getSpectrum(const std::string& name, SpectrumKind kind) const;
     /// A spectral parameter that may also be a nested texture; constants are wrapped.

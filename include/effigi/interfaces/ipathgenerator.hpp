@@ -57,10 +57,11 @@ public:
     virtual void cameraSubpath(const PathContext& ctx, const Ray& ray, const SampledSpectrum& weight,
                                ISampler& sampler, SampledWavelengths& lambda, std::vector<PathVertex>& path,
                                PathEscape& escape) const;
-    /// A light subpath: a point on a finite emitter (chosen uniformly among ctx.lights)
-    /// and up to ctx.maxDepth − 1 surface vertices. Draws one 1D and two 2D values first
-    /// even when there is no light, so the layout of the sample does not depend on it.
-    virtual void lightSubpath(const PathContext& ctx, ISampler& sampler, SampledWavelengths& lambda,
+    /// A light subpath at `time` (the camera subpath's: both see the scene in one pose):
+    /// a point on a finite emitter (chosen uniformly among ctx.lights) and up to
+    /// ctx.maxDepth − 1 surface vertices. Draws one 1D and two 2D values first even when
+    /// there is no light, so the layout of the sample does not depend on it.
+    virtual void lightSubpath(const PathContext& ctx, float time, ISampler& sampler, SampledWavelengths& lambda,
                               std::vector<PathVertex>& path) const;
 
 protected:

@@ -66,6 +66,11 @@ public:
     enum class MediaSupport { Refuses, Ignores, Renders };
     virtual MediaSupport mediaSupport() const { return MediaSupport::Refuses; }
 
+    /// Whether the renderer renders motion blur (Scene::hasMotion()): every ray it traces
+    /// carries the time of its path, from a camera ray timed within the shutter. The
+    /// loader refuses a moving scene to the others in one line.
+    virtual bool rendersMotion() const { return false; }
+
     /// The renderer's own estimate of its error so far: for every pixel of the film
     /// (crop, row-major) and each of R, G, B (linear, the film's colour space before
     /// output), the variance of the pixel's value — 3 floats per pixel. False when the

@@ -63,6 +63,10 @@ public:
     virtual const IMedium* interiorMedium() const { return nullptr; }
     virtual const IMedium* exteriorMedium() const { return nullptr; }
     bool isMediumTransition() const { return interiorMedium() || exteriorMedium(); }
+
+    /// True when the shape is somewhere else at other times (Ray::time): an instance with
+    /// an animated to_world, or one of a group that holds such a shape.
+    virtual bool moves() const { return false; }
 };
 
 } // namespace effigi

@@ -29,18 +29,20 @@ struct SurfaceInteraction {
     std::uint32_t prim = 0;
     /// Magnitude of the values p was computed from (offsetRayOrigin's `scale`); 0: |p|.
     float pScale = 0.f;
+    /// The time of the ray that found this point (Ray::time); rays leaving it keep it.
+    float time = 0.f;
 
     Vector3f toLocal(const Vector3f& v) const { return shading.toLocal(v); }
     Vector3f toWorld(const Vector3f& v) const { return shading.toWorld(v); }
 
     /// p pushed off the surface to the side of d (offsetRayOrigin).
     Point3f offsetOrigin(const Vector3f& d) const { return offsetRayOrigin(p, n, d, pScale); }
-    Ray spawnRay(const Vector3f& d) const { return Ray{offsetOrigin(d), d, Infinity}; }
+    Ray spawnRay(const Vector3f& d) const { return Ray{offsetOrigin(d), d, Infinity, time}; }
     /// Ray toward target that stops just before it (shadow rays).
     Ray spawnRayTo(const Point3f& target) const {
         Vector3f d = target - p;
         Point3f o = offsetOrigin(d);
-        return Ray{o, target - o, 1.f - ShadowEpsilon};
+        return Ray{o, target - o, 1.f - ShadowEpsilon, time};
     }
 };
 

@@ -65,7 +65,7 @@ struct PathContext {
         Vector3f d = b.p() - a.p();
         Point3f o = a.onSurface ? a.si.offsetOrigin(d) : a.p();
         Point3f target = b.onSurface ? b.si.offsetOrigin(-d) : b.p();
-        Ray ray{o, target - o, 1.f - ShadowEpsilon};
+        Ray ray{o, target - o, 1.f - ShadowEpsilon, a.si.time};
         if (scene.hasNullBSDFs()) return scene.transmittance(ray, lambda);
         return SampledSpectrum(scene.occluded(ray) ? 0.f : 1.f);
     }

@@ -9,6 +9,9 @@ struct Ray {
     Point3f o{0.f};
     Vector3f d{0.f, 0.f, 1.f};
     float tMax = Infinity;
+    /// The instant the ray samples (shutter time, in the scene's units): animated shapes
+    /// are intersected where they are at this time. Rays spawned from a surface keep it.
+    float time = 0.f;
 
     Point3f operator()(float t) const { return o + t * d; }
 };

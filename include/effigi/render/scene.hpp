@@ -25,6 +25,7 @@ public:
         Hit hit;
         if (!m_accel->intersect(ray, hit)) return false;
         si = m_shapePtrs[hit.shape]->interaction(ray, hit);
+        si.time = ray.time;
         return true;
     }
     bool occluded(const Ray& ray) const { return m_accel->occluded(ray); }
@@ -34,7 +35,9 @@ public:
     /// A batch of shadow rays: blocked[i] = 1 if rays[i] hits anything.
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> blocked) const { m_accel->occluded(rays, blocked); }
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const {
-        return m_shapePtrs[hit.shape]->interaction(ray, hit);
+        SurfaceInteraction si = m_shapePtrs[hit.shape]->interaction(ray, hit);
+        si.time = ray.time;
+        return si;
     }
 
     /// True if some shape's BSDF has a pass-through (BSDFNull) lobe (null, mask): only
@@ -49,6 +52,9 @@ public:
     /// True if a shape bounds a participating medium or the camera is inside one: only
     /// `volpath` renders media; other renderers refuse such scenes or ignore the media.
     bool hasMedia() const { return m_hasMedia; }
+    /// True if a shape or the camera moves during the shutter interval: only renderers
+    /// that time every ray (IRenderer::rendersMotion) render such a scene.
+    bool hasMotion() const { return m_hasMotion; }
 
     /// Pick an emitter uniformly (as Mitsuba 3 does);
     /// returns null when the scene has none.
@@ -85,6 +91,7 @@ private:
     BBox3f m_bbox;
     bool m_hasNull = false;
     bool m_hasMedia = false;
+    bool m_hasMotion = false;
 };
 
 } // namespace effigi
