@@ -19,6 +19,8 @@ packages=(
   zlib1g-dev           # Mitsuba .serialized meshes
   libopenvdb-dev libboost-dev  # .vdb grid volumes (volume/vdbvolume only; OpenVDB's headers need Boost's)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # `make fuzz`: libFuzzer + ASan/UBSan (the fuzz preset)
+  libopenmpi-dev openmpi-bin  # `mpirun -np N effigi render` (CMake option EFFIGI_MPI; docs/cluster.md)
+  pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module effigi (python/) and its tests
 )
 
 missing=()
@@ -28,13 +30,19 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}" >&2
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-echo "install-deps: installing ${missing[*]}" >&2
-sudo_cmd=()
-if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
-export DEBIAN_FRONTEND=noninteractive
-"${sudo_cmd[@]}" apt-get update -qq
-"${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# The Python module's tests need numpy and pytest in the Python that `python3` runs (the
+# one CMake builds the module for): Debian's gets them from the packages above, another
+# one (pyenv, a virtual environment) from pip.
+if command -v python3 >/dev/null && ! python3 -c "import numpy, pytest" 2>/dev/null; then
+  echo "install-deps: installing numpy and pytest with pip for $(command -v python3)" >&2
+  python3 -m pip install --quiet numpy pytest
+fi
