@@ -25,7 +25,8 @@ using namespace ply;
 
 class PlyParser {
 public:
-    PlyParser(std::string_view data, std::string name) : m_data(data), m_name(std::move(name)) {}
+    PlyParser(std::string_view data, std::string name, std::vector<std::uint32_t>* polygonSizes)
+        : m_data(data), m_name(std::move(name)), m_polygonSizes(polygonSizes) {}
 
     TriangleMesh read() {
         Header header = parseHeader(m_data, m_name);
@@ -273,6 +274,7 @@ private:
                     ++m_skippedFaces;
                     continue;
                 }
+                if (m_polygonSizes) m_polygonSizes->push_back(std::uint32_t(poly.size()));
                 // Fan triangulation: exact for the convex polygons PLY writers emit.
                 for (std::size_t j = 1; j + 1 < poly.size(); ++j) {
                     m_mesh.indices.push_back(poly[0]);
@@ -294,17 +296,24 @@ private:
     std::vector<Element> m_elements;
     std::uint64_t m_skippedFaces = 0;
     TriangleMesh m_mesh;
+    std::vector<std::uint32_t>* m_polygonSizes;
 };
 
 } // namespace
 
-TriangleMesh readPlyFromMemory(std::string_view data, const std::string& name) {
-    return PlyParser(data, name).read();
+TriangleMesh readPlyFromMemory(std::string_view data, const std::string& name, std::vector<std::uint32_t>* polygonSizes) {
+    return PlyParser(data, name, polygonSizes).read();
 }
 
-TriangleMesh readPly(const std::filesystem::path& path) {
-    std::string data = readRegularFile(path, "PLY file");
-    return readPlyFromMemory(data, path.string());
+TriangleMesh readPlyFromMemory(std::string_view data, const std::string& name) {
+    return readPlyFromMemory(data, name, nullptr);
 }
+
+TriangleMesh readPly(const std::filesystem::path& path, std::vector<std::uint32_t>* polygonSizes) {
+    std::string data = readRegularFile(path, "PLY file");
+    return readPlyFromMemory(data, path.string(), polygonSizes);
+}
+
+TriangleMesh readPly(const std::filesystem::path& path) { return readPly(path, nullptr); }
 
 } // namespace effigi

@@ -197,16 +197,18 @@ PositionSample MeshShape::samplePosition(const Point2f& u) const {
     if (n == 0 || !(m_area > 0.f)) return ps;  // pdf 0: nothing to sample
 
     // Pick a triangle by area; upper_bound never lands on a zero-area triangle
-    // (its cdf entry equals its predecessor's).
-    float target = u.x * m_area;
+    // (its cdf entry equals its predecessor's). In double: rounded to float, u.x·area
+    // lands exactly on the triangle's lower cdf entry about once in 2^24/N samples (N
+    // triangles), and the sample then sits on a vertex, where the surface has no normal.
+    const double target = double(u.x) * double(m_area);
     std::size_t i = std::size_t(std::upper_bound(m_areaCdf.begin(), m_areaCdf.end(), target) - m_areaCdf.begin());
     if (i >= n) {  // u.x·area rounded up to the total: take the last triangle with area
         i = n - 1;
         while (i > 0 && m_areaCdf[i] == m_areaCdf[i - 1]) --i;
     }
-    float lo = i > 0 ? m_areaCdf[i - 1] : 0.f, width = m_areaCdf[i] - lo;
+    const double lo = i > 0 ? double(m_areaCdf[i - 1]) : 0.0, width = double(m_areaCdf[i]) - lo;
     // Reuse what is left of u.x inside the chosen triangle's interval.
-    float ux = width > 0.f ? std::clamp((target - lo) / width, 0.f, OneMinusEpsilon) : 0.f;
+    float ux = width > 0.0 ? float(std::clamp((target - lo) / width, 0.0, double(OneMinusEpsilon))) : 0.f;
 
     Point2f b = warp::squareToUniformTriangle(Point2f(ux, u.y));
     float b0 = b.x, b1 = b.y, b2 = 1.f - b0 - b1;
