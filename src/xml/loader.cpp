@@ -9,6 +9,7 @@
 #include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/render/scene_range.hpp"
+#include "effigi/rib/loader.hpp"
 
 #include <mutex>
 
@@ -280,6 +281,7 @@ std::unique_ptr<Scene> loadScene(const xml::Node& root, Registry& registry) {
 
 std::unique_ptr<Scene> loadSceneFile(const std::filesystem::path& path, const xml::ParseOptions& opt,
                                      Registry& registry) {
+    if (rib::isRibFile(path)) return rib::loadFile(path, opt, registry);  // RenderMan RIB (src/rib)
     std::unique_ptr<xml::Node> root = xml::parseFile(path, opt);
     return loadScene(*root, registry);
 }
