@@ -73,12 +73,78 @@ void largeMesh(Builder& b, bool quick) {
     b.scene.large = true;
 }
 
+/// Constructive solid geometry (shape/csg, analytic to the accelerators): spheres with a
+/// bite out of them, lenses, cubes pierced by capped cylinders and a nested csg tree,
+/// among random triangles; random rays, 30 % with a finite tMax. What it probes: that
+/// every accelerator culls a csg by its bounds (of the union, the intersection, the
+/// minuend) without losing hits, and asks it the same questions.
+void csgScene(Builder& b, bool quick) {
+    using Params = std::vector<std::pair<std::string, PropertyValue>>;
+    auto make = [&](const std::string& type, const Params& params) {
+        Properties p("shape", type);
+        for (const auto& [name, value] : params) p.set(name, value);
+        return PropertyValue(ComponentValue{"shape", b.registry.create("shape", type, p)});
+    };
+    auto sphere = [&](Point3f c, float r) { return make("sphere", {{"center", PointValue{c}}, {"radius", double(r)}}); };
+    auto csg = [&](const char* op, const std::vector<PropertyValue>& parts) {
+        Params p{{"operation", std::string(op)}};
+        for (std::size_t i = 0; i < parts.size(); ++i) p.emplace_back(fmt::format("p{}", i), parts[i]);
+        return make("csg", p);
+    };
+    auto add = [&](const PropertyValue& v) {
+        Ref<IShape> s = query<IShape>(std::get<ComponentValue>(v).object);
+        if (!s) fail("accelerator suite: csg is not an IShape");
+        b.add(s);
+    };
+    for (int i = 0; i < 3; ++i) {
+        Point3f c = b.inBox(-0.8f, 0.8f);
+        float r = b.logUniform(0.1f, 0.4f);
+        add(csg("difference", {sphere(c, r), sphere(c + 0.8f * r * b.direction(), 0.6f * r)}));
+        Point3f l = b.inBox(-0.8f, 0.8f);
+        Vector3f off = 0.5f * r * b.direction();
+        add(csg("intersection", {sphere(l - off, r), sphere(l + off, r)}));
+    }
+    for (int i = 0; i < 2; ++i) {
+        Point3f c = b.inBox(-0.7f, 0.7f);
+        float r = b.logUniform(0.1f, 0.3f);
+        Vector3f axis = 1.4f * r * b.direction();
+        add(csg("union", {make("cube", {{"to_world", Transform::translate(c) * Transform::rotate(b.direction(), b.uniform(0.f, 180.f)) *
+                                                           Transform::scale(Vector3f(r))}}),
+                          make("cylinder", {{"p0", PointValue{c - axis}}, {"p1", PointValue{c + axis}},
+                                            {"radius", double(0.4f * r)}, {"caps", true}})}));
+    }
+    std::vector<PropertyValue> axes;
+    Point3f c = b.inBox(-0.5f, 0.5f);
+    for (int a = 0; a < 3; ++a) {
+        Vector3f h(0.f);
+        h[a] = 0.6f;
+        axes.push_back(make("cylinder", {{"p0", PointValue{c - h}}, {"p1", PointValue{c + h}}, {"radius", 0.18}, {"caps", true}}));
+    }
+    add(csg("difference", {csg("intersection", {make("cube", {{"to_world", Transform::translate(c) * Transform::scale(Vector3f(0.4f))}}),
+                                                sphere(c, 0.54f)}),
+                           csg("union", axes)}));
+    TriangleMesh m;
+    for (int i = 0; i < 200; ++i) {
+        Point3f q = b.inBox(-1.f, 1.f);
+        float size = b.logUniform(0.02f, 0.3f);
+        Builder::triangle(m, q + size * b.direction(), q + size * b.direction(), q + size * b.direction());
+    }
+    b.addMesh(std::move(m));
+    const int rays = quick ? 4000 : 20000;
+    for (int i = 0; i < rays; ++i) {
+        Vector3f d = b.direction();
+        float tMax = b.rng.nextFloat() < 0.3f ? b.uniform(0.05f, 3.f) : Infinity;
+        b.ray(b.inBox(-1.5f, 1.5f), d, tMax);
+    }
+}
+
 } // namespace
 
 const std::vector<std::string>& accelSceneNames() {
     static const std::vector<std::string> names = {"soup",    "cornell",  "large mesh",         "scale 1e6",
                                                    "scale 1e-6", "slivers", "coplanar", "edges and vertices",
-                                                   "on surface", "axis aligned", "tmax at hit", "grazing"};
+                                                   "on surface", "axis aligned", "tmax at hit", "grazing",
+                                                   "csg"};
     return names;
 }
 
@@ -99,6 +165,7 @@ AccelScene makeAccelScene(const std::string& name, Registry& registry, std::uint
     else if (name == "axis aligned") axisAligned(b, quick);
     else if (name == "tmax at hit") tMaxAtHit(b, quick);
     else if (name == "grazing") grazing(b, quick);
+    else if (name == "csg") csgScene(b, quick);
     else fail("accelerator suite: no scene '{}'", name);
     if (!scene.large) scene.referenceRays = scene.rays.size();
     std::size_t tris = 0;

@@ -4,7 +4,7 @@
 // bruteforce on a subset of its rays and against embree, bvh and kdtree on all of them),
 // and stiff ones — coordinates at 1e6 and 1e-6, slivers, coplanar overlaps, rays through
 // vertices and along edges, rays starting on surfaces, axis-aligned directions, tMax at
-// the hit distance, grazing rays.
+// the hit distance, grazing rays — and csg solids (shape/csg) among triangles.
 //
 // Agreement: the same hit or miss, and on a hit the same shape and primitive with
 // |Δt| ≤ 1e-4 t and |Δu|, |Δv| ≤ 1e-4. A ray on which the answers differ otherwise goes

@@ -66,7 +66,9 @@ std::optional<double> analyticArea(const Target& t) {
     if (c == "cylinder") {
         Vector3f axis = p.getPoint("p1") - p.getPoint("p0");
         Frame f(normalize(axis));
-        return 2.0 * pi * glm::length(m * Vector3d(f.s)) * double(p.getFloat("radius")) * glm::length(m * Vector3d(axis));
+        double r = glm::length(m * Vector3d(f.s)) * double(p.getFloat("radius"));
+        double tube = 2.0 * pi * r * glm::length(m * Vector3d(axis));
+        return p.getBool("caps") ? tube + 2.0 * pi * r * r : tube;  // caps: two end disks
     }
     return std::nullopt;
 }

@@ -4,7 +4,12 @@
 // Parameter `aovs`: a comma-separated list of "name:type" (Mitsuba 3's syntax and
 // channel names): albedo (BSDF albedo as linear sRGB: name.R/G/B), depth (distance along
 // the camera ray: name.T), position, geo_normal, sh_normal, dp_du, dp_dv (world:
-// name.X/Y/Z), uv (name.U/V), prim_index (name.I). Pixels that see nothing are 0.
+// name.X/Y/Z), uv (name.U/V), prim_index, shape_index (name.I: the primitive in its
+// shape; 1 + the index of the scene shape hit, its instance for an instanced member, as
+// Mitsuba). effigi adds, asked of the shape only when listed (IShape::localGeometry):
+// curvature (mean curvature, name.H), gaussian_curvature (name.K; signs as
+// effigi::curvature: a sphere with outward normals has H = 1/r, K = 1/r²) and
+// object_position (the point before to_world, name.X/Y/Z). Pixels that see nothing are 0.
 // Nested renderers (nested <integrator> in Mitsuba; they must render single samples, see
 // ISampleRenderer): the first one's radiance is the colour image; each one `name` also
 // gets channels name.R/G/B (linear sRGB of its samples), name.A (1 where the camera ray
@@ -19,17 +24,22 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/ibsdf.hpp"
 #include "effigi/interfaces/irenderer.hpp"
+#include "effigi/interfaces/ishape.hpp"
 #include "effigi/render/tile_renderer.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/colorspace.hpp"
 #include "effigi/spectral/spectrum.hpp"
 
+#include <span>
 #include <sstream>
 
 namespace effigi {
 namespace {
 
-enum class AovType { Albedo, ShNormal, GeoNormal, Depth, Position, UV, DpDu, DpDv, PrimIndex };
+enum class AovType {
+    Albedo, ShNormal, GeoNormal, Depth, Position, UV, DpDu, DpDv, PrimIndex, ShapeIndex,
+    MeanCurvature, GaussianCurvature, ObjectPosition
+};
 
 struct AovKind {
     const char* name;
@@ -47,7 +57,11 @@ const std::vector<AovKind>& aovKinds() {
         {"sh_normal", AovType::ShNormal, {"X", "Y", "Z"}},
         {"dp_du", AovType::DpDu, {"X", "Y", "Z"}},
         {"dp_dv", AovType::DpDv, {"X", "Y", "Z"}},
-        {"prim_index", AovType::PrimIndex, {"I"}}};
+        {"prim_index", AovType::PrimIndex, {"I"}},
+        {"shape_index", AovType::ShapeIndex, {"I"}},
+        {"curvature", AovType::MeanCurvature, {"H"}},
+        {"gaussian_curvature", AovType::GaussianCurvature, {"K"}},
+        {"object_position", AovType::ObjectPosition, {"X", "Y", "Z"}}};
     return kinds;
 }
 
@@ -57,12 +71,15 @@ public:
         Schema s("renderer", "aov", "Arbitrary output variables (albedo, normals, depth, ...) of the first hit.");
         s.string("aovs", "albedo:albedo, nn:sh_normal, dd:depth",
                  "Comma-separated name:type list (Mitsuba requires it; effigi defaults to this); types "
-                 "albedo, depth, position, uv, geo_normal, sh_normal, dp_du, dp_dv, prim_index");
+                 "albedo, depth, position, uv, geo_normal, sh_normal, dp_du, dp_dv, prim_index, shape_index, "
+                 "curvature, gaussian_curvature, object_position");
         s.children("renderer", "Renderers whose images come first (nested <integrator> in Mitsuba)");
         addIntegratorParam(s);
         s.addConformance({"default", {}});
         s.addConformance({"every AOV type", {{"aovs", std::string("a:albedo, d:depth, p:position, uv:uv, g:geo_normal, "
-                                                                  "n:sh_normal, u:dp_du, v:dp_dv, i:prim_index")}}});
+                                                                  "n:sh_normal, u:dp_du, v:dp_dv, i:prim_index, "
+                                                                  "s:shape_index, h:curvature, k:gaussian_curvature, "
+                                                                  "o:object_position")}}});
         if (auto path = nestedRenderer("path")) s.addConformance({"nested path", {{"path", *path}}});
         return s;
     }
@@ -95,7 +112,12 @@ public:
     SampledSpectrum sampleRadiance(const Scene& scene, const Ray& ray, SampledWavelengths& lambda,
                                    ISampler& sampler, float* channels) const override {
         SurfaceInteraction si;
-        const bool hit = scene.intersect(ray, si);
+        Hit h;  // kept for shape_index: the scene shape hit
+        if (m_shapeIndex) {
+            scene.intersect(std::span<const Ray>(&ray, 1), std::span<Hit>(&h, 1));
+            if (h.valid()) si = scene.interaction(ray, h);
+        }
+        const bool hit = m_shapeIndex ? h.valid() : scene.intersect(ray, si);
         float* out = channels;
         SampledSpectrum first(0.f);
         SampledWavelengths firstLambda = lambda;
@@ -110,7 +132,7 @@ public:
         }
         lambda = firstLambda;
         if (hit)
-            for (const Aov& a : m_aovs) writeAov(a, si, ray, lambda, out + a.offset);
+            for (const Aov& a : m_aovs) writeAov(a, si, h, ray, lambda, out + a.offset);
         return first;
     }
 
@@ -146,12 +168,13 @@ private:
                        hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint), fmt::join(names, ", "));
             }
             m_aovs.push_back({it->type, int(m_channels.size() - first)});
+            m_shapeIndex = m_shapeIndex || it->type == AovType::ShapeIndex;
             for (const char* c : it->suffixes) m_channels.push_back(name + "." + c);
         }
     }
 
-    void writeAov(const Aov& a, const SurfaceInteraction& si, const Ray& ray, const SampledWavelengths& lambda,
-                  float* v) const {
+    void writeAov(const Aov& a, const SurfaceInteraction& si, const Hit& hit, const Ray& ray,
+                  const SampledWavelengths& lambda, float* v) const {
         auto put3 = [v](const Vector3f& x) { v[0] = x.x, v[1] = x.y, v[2] = x.z; };
         switch (a.type) {
         case AovType::Albedo:
@@ -166,6 +189,10 @@ private:
         case AovType::DpDu: put3(si.dpdu); break;
         case AovType::DpDv: put3(si.dpdv); break;
         case AovType::PrimIndex: v[0] = float(si.prim); break;
+        case AovType::ShapeIndex: v[0] = float(hit.shape) + 1.f; break;
+        case AovType::MeanCurvature: v[0] = curvature(si, localGeometry(si)).mean; break;
+        case AovType::GaussianCurvature: v[0] = curvature(si, localGeometry(si)).gaussian; break;
+        case AovType::ObjectPosition: put3(Vector3f(localGeometry(si).objectP)); break;
         }
     }
 
@@ -173,6 +200,7 @@ private:
     MediaSupport m_media = MediaSupport::Ignores;
     bool m_motion = true;
     std::vector<Aov> m_aovs;
+    bool m_shapeIndex = false;  // a shape_index AOV is listed
     std::vector<std::string> m_channels;  // nested renderers' first, then the AOVs
     Spectrum m_white;
 };

@@ -16,6 +16,10 @@
 // normals with its inverse transpose (renormalised), the shading tangent with to_world
 // then re-orthogonalised against the new normal. The member's BSDF, uv, primitive and
 // barycentrics are kept, so textures (mesh attributes included) behave as on the member.
+// si.shape stays the member (its mesh, media, attributes) and si.instance names this
+// instance (Mitsuba 3's si.instance), so a shader's localGeometry() query comes here: the
+// hit is carried back to group space, the member answers, and its normal derivatives
+// are carried to the world with the normals' matrix.
 //
 // Instances carry no emitter (shapegroup refuses emitting members, as Mitsuba does), so
 // renderers never sample them; area() and samplePosition() exist for completeness and
@@ -142,7 +146,29 @@ public:
         pose.toWorld(si);
         si.t = hit.t;
         si.wo = normalize(-ray.d);
+        si.instance = this;  // si.shape stays the member (see the file comment)
         return si;
+    }
+
+    /// The member's local geometry, asked in group space and carried back: objectP is the
+    /// member's own object-space point; the world normal is n = N n_g / |N n_g| (N the
+    /// normals' matrix), so ∂n/∂u = (I − n nᵀ) N ∂n_g/∂u / |N n_g|, and likewise for v.
+    LocalGeometry localGeometry(const SurfaceInteraction& si) const override {
+        if (!si.shape || si.shape == this) return IShape::localGeometry(si);
+        const Placement pose = placementAt(si.time);
+        SurfaceInteraction g = pose.toGroup(si);
+        LocalGeometry lg = g.shape->localGeometry(g);
+        const Vector3f m = pose.normalMatrix * g.shading.n;
+        const float len = length(m);
+        if (!(len > 0.f) || !std::isfinite(len)) return LocalGeometry{lg.objectP, Vector3f(0.f), Vector3f(0.f)};
+        const Vector3f n = m / len;
+        auto carry = [&](const Vector3f& d) {
+            Vector3f w = pose.normalMatrix * d;
+            return (w - n * dot(n, w)) / len;
+        };
+        lg.dndu = carry(lg.dndu);
+        lg.dndv = carry(lg.dndv);
+        return lg;
     }
 
     float area() const override { return m_memberArea * m_areaScale; }
@@ -212,6 +238,26 @@ private:
             }
             si.dpdu = linear * si.dpdu;
             si.dpdv = linear * si.dpdv;
+        }
+
+        /// A world-space surface description (this pose's toWorld()) back in group space,
+        /// as the member made it: for the member's localGeometry().
+        SurfaceInteraction toGroup(const SurfaceInteraction& w) const {
+            SurfaceInteraction si = w;
+            const glm::mat3 inv(transform.inverseMatrix()), tr = glm::transpose(linear);
+            si.p = transform.inverse().point(w.p);
+            si.n = normalizeOr(tr * w.n, w.n);
+            const Vector3f n = normalizeOr(tr * w.shading.n, si.n);
+            Vector3f s = inv * w.shading.s;
+            s -= n * dot(n, s);
+            const float s2 = dot(s, s);
+            si.shading = s2 > 1e-20f && std::isfinite(s2) ? Frame(s / std::sqrt(s2), cross(n, s / std::sqrt(s2)), n)
+                                                           : Frame(n);
+            si.dpdu = inv * w.dpdu;
+            si.dpdv = inv * w.dpdv;
+            si.wo = normalizeOr(inv * w.wo, w.wo);
+            si.instance = nullptr;
+            return si;
         }
     };
 

@@ -101,6 +101,17 @@ public:
         return si;
     }
 
+    /// n = ±(p − center) / radius, so ∂n/∂u = ±(∂p/∂u) / radius (likewise v): curvature
+    /// 1/r in every direction, negative with flip_normals. objectP: ShapeBase's inverse
+    /// of to_world.
+    LocalGeometry localGeometry(const SurfaceInteraction& si) const override {
+        LocalGeometry g = ShapeBase::localGeometry(si);
+        const float k = (m_flipNormals ? -1.f : 1.f) / m_radius;
+        g.dndu = si.dpdu * k;
+        g.dndv = si.dpdv * k;
+        return g;
+    }
+
     PositionSample samplePosition(const Point2f& u) const override {
         PositionSample ps;
         Vector3f w = warp::squareToUniformSphere(u);

@@ -1,6 +1,10 @@
-// IShape defaults: no analytic intersection, and solid-angle sampling by converting
-// the area density, p_ω = p_A · d² / |cos θ_light| (from dω = |cos θ_light| dA / d²; Veach 1997, thesis).
+// IShape defaults: no analytic intersection, solid-angle sampling by converting the area
+// density, p_ω = p_A · d² / |cos θ_light| (from dω = |cos θ_light| dA / d²; Veach 1997,
+// thesis), a flat local geometry; and curvature from the local geometry.
 #include "effigi/interfaces/ishape.hpp"
+
+#include <algorithm>
+#include <cmath>
 
 namespace effigi {
 
@@ -34,6 +38,32 @@ float IShape::pdfDirection(const Point3f& ref, const SurfaceInteraction& si) con
     if (!(cosLight > 0.f)) return 0.f;
     float pdf = d2 / (a * cosLight);
     return std::isfinite(pdf) ? pdf : 0.f;
+}
+
+LocalGeometry IShape::localGeometry(const SurfaceInteraction& si) const {
+    return LocalGeometry{si.p, Vector3f(0.f), Vector3f(0.f)};
+}
+
+Curvature curvature(const SurfaceInteraction& si, const LocalGeometry& g) {
+    // First fundamental form E, F, G and second e, f, g with the shape operator taken as
+    // +dn (so a sphere with outward normals bends positively); f is symmetrised because
+    // interpolated mesh normals make ∂n/∂u·∂p/∂v and ∂n/∂v·∂p/∂u differ slightly.
+    const Vector3d pu(si.dpdu), pv(si.dpdv), nu(g.dndu), nv(g.dndv);
+    const double E = glm::dot(pu, pu), F = glm::dot(pu, pv), G = glm::dot(pv, pv);
+    const double e = glm::dot(nu, pu), f = 0.5 * (glm::dot(nu, pv) + glm::dot(nv, pu)), gg = glm::dot(nv, pv);
+    const double det = E * G - F * F;
+    Curvature c;
+    // Parallel or vanishing tangents (sin² of their angle below 1e-10): no curvature to speak of.
+    if (!(det > 1e-10 * E * G) || !(E > 0.0) || !(G > 0.0)) return c;
+    const double H = (e * G - 2.0 * f * F + gg * E) / (2.0 * det), K = (e * gg - f * f) / det;
+    const double root = std::sqrt(std::max(H * H - K, 0.0));
+    if (!std::isfinite(H) || !std::isfinite(K) || !std::isfinite(root)) return c;
+    c.mean = float(H);
+    c.gaussian = float(K);
+    c.k1 = float(H + root);
+    c.k2 = float(H - root);
+    if (!std::isfinite(c.mean) || !std::isfinite(c.gaussian) || !std::isfinite(c.k1) || !std::isfinite(c.k2)) c = {};
+    return c;
 }
 
 } // namespace effigi

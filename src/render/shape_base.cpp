@@ -26,6 +26,7 @@ ShapeBase::ShapeBase(const Properties& props) {
     if (props.has("flip_normals")) m_flipNormals = props.getBool("flip_normals");
     m_bsdf = props.get<IBSDF>("bsdf");
     if (!m_bsdf) {
+        m_defaultBsdf = true;
         Properties p("bsdf", "diffuse", props.where());
         m_bsdf = effigi::query<IBSDF>(Registry::instance().create("bsdf", "diffuse", p));
         if (!m_bsdf) failAt(props.where(), "{}: could not create the default diffuse BSDF", props.describe());
@@ -34,6 +35,18 @@ ShapeBase::ShapeBase(const Properties& props) {
     if (m_emitter) m_emitterWhere = props.whereOf("emitter");
     m_interior = props.get<IMedium>("interior");
     m_exterior = props.get<IMedium>("exterior");
+}
+
+Point3f ShapeBase::objectPoint(const Point3f& p) const {
+    // Double: a far-off shape's to_world cancels its large translation here.
+    const glm::dmat4 inv(m_toWorld.inverseMatrix());
+    const glm::dvec4 q = inv * glm::dvec4(Vector3d(p), 1.0);
+    const Point3f o(Vector3d(q) / q.w);
+    return isFinite(o) ? o : p;
+}
+
+LocalGeometry ShapeBase::localGeometry(const SurfaceInteraction& si) const {
+    return LocalGeometry{objectPoint(si.p), Vector3f(0.f), Vector3f(0.f)};
 }
 
 void ShapeBase::attachEmitter() {
@@ -189,6 +202,40 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
     }
     finish(si, ray);
     return si;
+}
+
+LocalGeometry MeshShape::localGeometry(const SurfaceInteraction& si) const {
+    LocalGeometry g = ShapeBase::localGeometry(si);
+    if (m_mesh.normals.empty() || std::size_t(si.prim) >= m_mesh.triangleCount()) return g;  // flat faces
+    const std::uint32_t* idx = &m_mesh.indices[3 * std::size_t(si.prim)];
+    const Normal3f &n0 = m_mesh.normals[idx[0]], &n1 = m_mesh.normals[idx[1]], &n2 = m_mesh.normals[idx[2]];
+    const float b1 = si.primUV.x, b2 = si.primUV.y, b0 = 1.f - b1 - b2;
+    // The shading normal is m / |m| for the interpolated m (interaction()); where it fell
+    // back to the face normal, the normal is constant over the triangle.
+    const Normal3f m = b0 * n0 + b1 * n1 + b2 * n2;
+    const float m2 = dot(m, m);
+    if (!(m2 > 1e-20f) || !std::isfinite(m2)) return g;
+    Vector3f dmdu, dmdv;
+    if (!m_mesh.uvs.empty()) {
+        // The same edge equations as dp/du, dp/dv in interaction() (pbrt §6.5.3), for n.
+        const Point2f &t0 = m_mesh.uvs[idx[0]], &t1 = m_mesh.uvs[idx[1]], &t2 = m_mesh.uvs[idx[2]];
+        const Vector2f d02 = t0 - t2, d12 = t1 - t2;
+        const float det = d02.x * d12.y - d02.y * d12.x;
+        if (!(std::abs(det) > 1e-12f)) return g;  // interaction() left dpdu, dpdv zero too
+        const float invDet = 1.f / det;
+        dmdu = (d12.y * (n0 - n2) - d02.y * (n1 - n2)) * invDet;
+        dmdv = (d02.x * (n1 - n2) - d12.x * (n0 - n2)) * invDet;
+    } else {
+        dmdu = n1 - n0;  // uv = (b1, b2)
+        dmdv = n2 - n0;
+    }
+    // ∂(m/|m|) = (∂m − n (n·∂m)) / |m|.
+    const float invLen = 1.f / std::sqrt(m2);
+    const Vector3f n = m * invLen;
+    g.dndu = (dmdu - n * dot(n, dmdu)) * invLen;
+    g.dndv = (dmdv - n * dot(n, dmdv)) * invLen;
+    if (!isFinite(g.dndu) || !isFinite(g.dndv)) g.dndu = g.dndv = Vector3f(0.f);
+    return g;
 }
 
 PositionSample MeshShape::samplePosition(const Point2f& u) const {

@@ -28,6 +28,18 @@ struct DirectionSample : PositionSample {
     /// pdf is a solid-angle density here.
 };
 
+/// What a shader may ask of the surface under a hit beyond the SurfaceInteraction, on
+/// request (IShape::localGeometry): nothing of it is computed while tracing, so a render
+/// whose BSDFs and textures do not ask pays nothing for it.
+struct LocalGeometry {
+    /// The hit point in the shape's object space: before its to_world (and, through an
+    /// instance, before the instance's to_world too).
+    Point3f objectP{0.f};
+    /// ∂n/∂u, ∂n/∂v: the change of the unit SHADING normal (si.shading.n) along the
+    /// parametrisation of si.dpdu, si.dpdv, in world space. Zero on flat surfaces.
+    Vector3f dndu{0.f}, dndv{0.f};
+};
+
 class IShape : public virtual IComponent {
 public:
     static constexpr InterfaceId IID = interfaceId("IShape");
@@ -64,9 +76,37 @@ public:
     virtual const IMedium* exteriorMedium() const { return nullptr; }
     bool isMediumTransition() const { return interiorMedium() || exteriorMedium(); }
 
+    /// Object-space point and normal derivatives at si, a point this shape's interaction()
+    /// produced (call the free function localGeometry(si), which routes instanced hits
+    /// through their instance). Only on request: renderers never call it. The default
+    /// is a flat surface: objectP = si.p, dndu = dndv = 0.
+    virtual LocalGeometry localGeometry(const SurfaceInteraction& si) const;
+
     /// True when the shape is somewhere else at other times (Ray::time): an instance with
     /// an animated to_world, or one of a group that holds such a shape.
     virtual bool moves() const { return false; }
 };
+
+/// The local geometry of the surface under si (IShape::localGeometry of the instance that
+/// placed the hit, else of its shape); a flat surface at si.p when si has no shape.
+inline LocalGeometry localGeometry(const SurfaceInteraction& si) {
+    if (const IShape* s = si.instance ? si.instance : si.shape) return s->localGeometry(si);
+    return LocalGeometry{si.p, Vector3f(0.f), Vector3f(0.f)};
+}
+
+/// Curvatures of the surface at a point (inverse scene units; Gaussian: their square).
+/// Sign convention: positive where the surface bends away from its shading normal, so a
+/// sphere with outward normals has mean curvature 1/r, Gaussian 1/r², k1 = k2 = 1/r
+/// (flip_normals turns the mean and principal curvatures negative, not the Gaussian).
+struct Curvature {
+    float mean = 0.f;      ///< H = (k1 + k2) / 2
+    float gaussian = 0.f;  ///< K = k1 · k2
+    float k1 = 0.f, k2 = 0.f;  ///< principal curvatures, k1 ≥ k2
+};
+
+/// Curvature from si.dpdu, si.dpdv and g.dndu, g.dndv by the Weingarten equations (first
+/// and second fundamental forms; do Carmo 1976, §3-3). A degenerate parametrisation (zero
+/// or parallel ∂p/∂u, ∂p/∂v, e.g. a sphere's pole) gives zeros, never NaN.
+Curvature curvature(const SurfaceInteraction& si, const LocalGeometry& g);
 
 } // namespace effigi

@@ -24,6 +24,10 @@ struct SurfaceInteraction {
     Point2f primUV{0.f};
     Vector3f wo{0.f};  ///< unit direction back along the arriving ray (world)
     const IShape* shape = nullptr;
+    /// The `instance` that placed `shape` (null for a shape of the scene itself; Mitsuba
+    /// 3's si.instance): shape stays the member, so its mesh, media and attributes are
+    /// at hand, while localGeometry() goes through the instance's transform.
+    const IShape* instance = nullptr;
     const IBSDF* bsdf = nullptr;
     const IEmitter* emitter = nullptr;
     std::uint32_t prim = 0;

@@ -28,6 +28,12 @@ public:
     IEmitter* emitter() override { return m_emitter.get(); }
     const IMedium* interiorMedium() const override { return m_interior.get(); }
     const IMedium* exteriorMedium() const override { return m_exterior.get(); }
+    /// Whether no <bsdf> was nested, so bsdf() is the default diffuse one (a csg gives
+    /// such parts its own BSDF instead).
+    bool hasDefaultBsdf() const { return m_defaultBsdf; }
+    /// Flat: objectP by the inverse of to_world, no normal change (sphere, cylinder and
+    /// meshes override it with their normal derivatives).
+    LocalGeometry localGeometry(const SurfaceInteraction& si) const override;
 
 protected:
     /// Fill the parts of a SurfaceInteraction that come from the shape itself.
@@ -39,6 +45,9 @@ protected:
         si.bsdf = m_bsdf.get();
         si.emitter = m_emitter.get();
     }
+    /// World point p carried back through to_world's inverse (p itself where that is not
+    /// finite: a to_world that flattens the shape).
+    Point3f objectPoint(const Point3f& p) const;
     /// Call once the geometry is complete (end of the subclass constructor;
     /// MeshShape::setMesh does it): hands this shape to its nested emitter.
     void attachEmitter();
@@ -48,6 +57,7 @@ protected:
     Ref<IEmitter> m_emitter;
     Ref<IMedium> m_interior, m_exterior;
     bool m_flipNormals = false;
+    bool m_defaultBsdf = false;
 
 private:
     SourceLocation m_emitterWhere;  // where the nested emitter was declared (errors)
@@ -66,6 +76,9 @@ public:
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const override;
     float area() const override { return m_area; }
     PositionSample samplePosition(const Point2f& u) const override;
+    /// ∂n/∂u, ∂n/∂v of the interpolated vertex normals over the hit triangle, in the
+    /// parametrisation interaction() gives dpdu, dpdv (the mesh uv, else the barycentrics).
+    LocalGeometry localGeometry(const SurfaceInteraction& si) const override;
 
 protected:
     /// Validate (errors prefixed by `what`, e.g. the file name), apply to_world,
