@@ -12,7 +12,7 @@
 #include "effigi/core/registry.hpp"
 #include "effigi/render/shape_base.hpp"
 
-#include <tiny_obj_loader.h>
+#include "obj_file.hpp"
 
 #include <array>
 #include <filesystem>
@@ -22,25 +22,10 @@
 namespace effigi {
 namespace {
 
-/// First line of a tinyobjloader message, for a one-line error (escaped: it may quote the file).
-std::string firstLine(const std::string& s) {
-    std::string r = s.substr(0, s.find('\n'));
-    return r.empty() ? "parse error" : excerpt(r, 200);
-}
-
 TriangleMesh loadObj(const std::string& file, bool flipTexCoords) {
-    regularFileSize(file, "OBJ file");  // refuses devices and FIFOs: tinyobjloader reads to the end
-    std::ifstream in(file);
-    if (!in) fail("{}: cannot open OBJ file", file);
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> materials;
-    std::string warn, err;
-    // No material reader (mtllib ignored) and no triangulation: tinyobjloader's own
-    // triangulation indexes vertices before anyone has range-checked them.
-    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr, false, false))
-        fail("{}: invalid OBJ file: {}", file, firstLine(err));
-    if (!warn.empty()) log::debug("{}: {}", file, firstLine(warn));
+    ObjFile obj = readObjFile(file);
+    const tinyobj::attrib_t& attrib = obj.attrib;
+    const std::vector<tinyobj::shape_t>& shapes = obj.shapes;
 
     const std::size_t nv = attrib.vertices.size() / 3, nn = attrib.normals.size() / 3,
                       nt = attrib.texcoords.size() / 2;

@@ -12,7 +12,7 @@
 #include "effigi/core/log.hpp"
 #include "effigi/render/ply_reader.hpp"
 
-#include <tiny_obj_loader.h>
+#include "obj_file.hpp"
 
 #include <fstream>
 #include <string>
@@ -33,15 +33,9 @@ struct Cage {
 };
 
 inline Cage readObjCage(const std::string& file, bool flipTexCoords) {
-    regularFileSize(file, "OBJ file");
-    std::ifstream in(file);
-    if (!in) fail("{}: cannot open OBJ file", file);
-    tinyobj::attrib_t attrib;
-    std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> materials;
-    std::string warn, err;
-    if (!tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in, nullptr, false, false))
-        fail("{}: invalid OBJ file: {}", file, excerpt(err.substr(0, err.find('\n')), 200));
+    ObjFile obj = readObjFile(file);
+    const tinyobj::attrib_t& attrib = obj.attrib;
+    const std::vector<tinyobj::shape_t>& shapes = obj.shapes;
     Cage c;
     const std::size_t nv = attrib.vertices.size() / 3, nt = attrib.texcoords.size() / 2;
     for (std::size_t i = 0; i < nv; ++i)
