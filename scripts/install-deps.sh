@@ -21,6 +21,8 @@ packages=(
   clang-14 libfuzzer-14-dev libclang-rt-14-dev  # `make fuzz`: libFuzzer + ASan/UBSan (the fuzz preset)
   libopenmpi-dev openmpi-bin  # `mpirun -np N effigi render` (CMake option EFFIGI_MPI; docs/cluster.md)
   pybind11-dev python3-dev python3-numpy python3-pytest  # the Python module effigi (python/) and its tests
+  libcpp-httplib-dev   # `effigi render --preview`: the live page's HTTP server (apps/effigi/preview_server.cpp)
+  chromium             # tests/test_preview.cpp: loads the preview page headless and checks its screenshot
 )
 
 missing=()

@@ -74,6 +74,7 @@ TEST_CASE("startup: a render to EXR and its PNG preview loads no OpenImageIO", "
     const Traced t = runTraced(dir, "render " + Plane + " -o " + (dir / "x.exr").string() + Tiny);
     requireNoOpenImageIO(t);
     CHECK(loaded(t, "film-hdrfilm.so"));  // the film module that wrote both files ran
+    CHECK_FALSE(loaded(t, "libcpp-httplib"));  // nor the live preview's server (render --preview only)
     CHECK(fs::exists(dir / "x.exr"));
     CHECK(fs::exists(dir / "x.png"));
     fs::remove_all(dir);

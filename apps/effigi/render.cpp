@@ -1,9 +1,13 @@
 // effigi render: load a scene, render it with its renderer, write the film.
 #include "commands.hpp"
 #include "output_check.hpp"
+#include "render_checkpoint.hpp"
+#include "render_ranks.hpp"
+#include "preview_server.hpp"
 
 #include "effigi/core/log.hpp"
 #include "effigi/core/module.hpp"
+#include "effigi/interfaces/iaccumulator.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/isampler.hpp"
 #include "effigi/render/progressive.hpp"
@@ -16,6 +20,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <sys/resource.h>
 
 #include "spectral_exr.hpp"  // components/film: the name of the spectral EXR beside the output
@@ -97,88 +102,179 @@ void checkOutputs(std::filesystem::path out, const IFilm& film, bool dryRun) {
     for (const auto& f : files) requireWritable(f, !dryRun);
 }
 
-} // namespace
-
-int render(const std::vector<std::string>& args) {
-    std::string scenePath, outPath;
-    xml::ParseOptions opt;
+/// Everything `effigi render` was asked.
+struct RenderOptions {
+    std::string scenePath, outPath, checkpointDir, resumeDir;
+    xml::ParseOptions parse;
     RenderControl control;
     ProgressiveOptions prog;
+    double checkpointEvery = 60.0;
+    int previewPort = -1;  // --preview: the live page's port (-1: no page)
     bool verbose = false, progressive = false, reference = false, dryRun = false, showStats = false;
+};
+
+RenderOptions parseOptions(const std::vector<std::string>& args) {
+    RenderOptions o;
     for (std::size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        if (a == "-o") outPath = needValue(args, i);
+        if (a == "-o") o.outPath = needValue(args, i);
         else if (a == "-D") {
             std::string kv = needValue(args, i);
             auto eq = kv.find('=');
             if (eq == std::string::npos || eq == 0) fail("-D expects name=value, got '{}'", kv);
-            opt.defines[kv.substr(0, eq)] = kv.substr(eq + 1);
-        } else if (a == "-t") control.threads = int(parseLong(a, needValue(args, i)));
-        else if (a == "--seed") control.seed = std::uint64_t(parseLong(a, needValue(args, i)));
-        else if (a == "-v") verbose = true;
-        else if (a == "--time") prog.timeBudget = parseDouble(a, needValue(args, i)), progressive = true;
-        else if (a == "--spp") prog.spp = std::uint64_t(parseLong(a, needValue(args, i))), progressive = true;
+            o.parse.defines[kv.substr(0, eq)] = kv.substr(eq + 1);
+        } else if (a == "-t") o.control.threads = int(parseLong(a, needValue(args, i)));
+        else if (a == "--seed") o.control.seed = std::uint64_t(parseLong(a, needValue(args, i)));
+        else if (a == "-v") o.verbose = true;
+        else if (a == "--time") o.prog.timeBudget = parseDouble(a, needValue(args, i)), o.progressive = true;
+        else if (a == "--spp") o.prog.spp = std::uint64_t(parseLong(a, needValue(args, i))), o.progressive = true;
         else if (a == "--target-relmse")
-            prog.targetRelMSE = parseDouble(a, needValue(args, i)), progressive = true;
-        else if (a == "--reference") reference = true;
-        else if (a == "--no-progress") control.progress = false;
-        else if (a == "--dry-run") dryRun = true;
-        else if (a == "--stats") showStats = true;
+            o.prog.targetRelMSE = parseDouble(a, needValue(args, i)), o.progressive = true;
+        else if (a == "--checkpoint") o.checkpointDir = needValue(args, i);
+        else if (a == "--checkpoint-every") o.checkpointEvery = parseDuration(a, needValue(args, i));
+        else if (a == "--resume") o.resumeDir = needValue(args, i);
+        else if (a == "--preview") o.previewPort = previewPortOption(args, i);
+        else if (a == "--reference") o.reference = true;
+        else if (a == "--no-progress") o.control.progress = false;
+        else if (a == "--dry-run") o.dryRun = true;
+        else if (a == "--stats") o.showStats = true;
         else if (!a.empty() && a[0] == '-') fail("render: unknown option '{}'", a);
-        else if (scenePath.empty()) scenePath = a;
-        else fail("render: more than one scene given ('{}', '{}')", scenePath, a);
+        else if (o.scenePath.empty()) o.scenePath = a;
+        else fail("render: more than one scene given ('{}', '{}')", o.scenePath, a);
     }
-    if (scenePath.empty()) fail("render: no scene file given");
-    // From here on SIGINT only asks the renderer to stop; a render interrupted before it
-    // starts writes an empty image.
-    std::signal(SIGINT, onSigint);
-    control.stop = &g_stop;
-    if (verbose) log::setLevel(log::Level::Info);
-    if (outPath.empty()) outPath = std::filesystem::path(scenePath).stem().string() + ".exr";
+    if (o.scenePath.empty()) fail("render: no scene file given");
+    if (o.outPath.empty()) o.outPath = std::filesystem::path(o.scenePath).stem().string() + ".exr";
+    if (o.checkpointDir.empty()) o.checkpointDir = o.resumeDir;  // a resumed render goes on checkpointing there
+    return o;
+}
 
-    auto t0 = std::chrono::steady_clock::now();
-    std::unique_ptr<Scene> scene = loadSceneFile(scenePath, opt);
-    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    checkOutputs(outPath, scene->camera().film(), dryRun);
-    if (dryRun) {
+} // namespace
+
+int render(const std::vector<std::string>& args) {
+    // Under mpirun every rank runs this; errors up to the render are agreed on, so that
+    // one line is printed and every rank ends with exit code 1.
+    std::unique_ptr<Ranks> ranks = joinRanks();
+    const bool root = !ranks || ranks->root();
+    if (!root) log::setLevel(log::Level::Error);  // warnings once, from rank 0
+    RenderOptions o;
+    std::unique_ptr<Scene> scene;
+    CheckpointBase base;
+    std::vector<double> resumed;
+    bool sums = false;  // the render's running sums are saved or pooled: checkpoints, resume, ranks
+    double loadSeconds = 0.0;
+    std::string early;
+    try {
+        o = parseOptions(args);
+        if (o.verbose && root) log::setLevel(log::Level::Info);
+        sums = ranks || !o.checkpointDir.empty();
+        const std::uint64_t seed = o.control.seed;
+        if (ranks) {
+            if (o.control.threads == 0) o.control.threads = ranks->threadsPerRank();
+            o.control.seed += std::uint64_t(ranks->rank()) * Ranks::SeedStride;
+            if (!root) o.control.progress = false;
+        }
+        auto t0 = std::chrono::steady_clock::now();
+        scene = loadSceneFile(o.scenePath, o.parse);
+        loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (root) checkOutputs(o.outPath, scene->camera().film(), o.dryRun);
+        if (sums)
+            base = {checkpointIdentity(o.scenePath, o.parse.defines, seed),
+                    std::filesystem::absolute(o.scenePath).string(), o.prog.spp, o.prog.timeBudget,
+                    o.prog.targetRelMSE};
+        if (sums && (!query<IAccumulator>(&scene->camera().film()) || !query<IAccumulator>(&scene->renderer())))
+            fail("renderer {} keeps state beyond the film's running sums: it cannot be checkpointed, resumed or "
+                 "split over MPI ranks (renderers that can: path, direct, aov, moment, volpath, whitted, photonmap)",
+                 scene->renderer().typeName());
+        if (!o.resumeDir.empty() && root && !o.dryRun) resumed = readResume(o.resumeDir, *scene, base);
+    } catch (const Error& e) {
+        if (!ranks) throw;
+        early = e.what();
+    }
+    if (ranks && !ranks->agree(early)) return 1;
+    if (o.dryRun) {
         // Load only: every element parsed and every component created (so every error a
         // render would report up front is reported), nothing rendered or written.
         Vector2i size = scene->camera().film().size();
-        std::printf("loaded %s: %zu shapes, %zu emitters, %dx%d, renderer %s (load %.2f s)\n", scenePath.c_str(),
-                    scene->shapes().size(), scene->emitters().size(), size.x, size.y,
-                    scene->renderer().typeName().c_str(), loadSeconds);
+        if (root)
+            std::printf("loaded %s: %zu shapes, %zu emitters, %dx%d, renderer %s (load %.2f s)\n",
+                        o.scenePath.c_str(), scene->shapes().size(), scene->emitters().size(), size.x, size.y,
+                        scene->renderer().typeName().c_str(), loadSeconds);
         return 0;
     }
+    // From here on SIGINT only asks the renderer to stop; a render interrupted before it
+    // starts writes an empty image.
+    std::signal(SIGINT, onSigint);
+    RenderControl& control = o.control;
+    ProgressiveOptions& prog = o.prog;
+    control.stop = &g_stop;
 
-    RenderStats stats;
     std::uint64_t spp = scene->camera().sampler().samplesPerPixel();
+    std::optional<CheckpointWriter> writer;
+    RenderStats stats;
     double estimate = -1.0;
-    if (progressive) {
-        prog.progress = control.progress;
-        stats = renderProgressive(*scene, control, prog, [&](const PassReport& r) {
-            spp = r.spp;
-            estimate = r.estimatedRelMSE;
-            return true;
-        });
-    } else {
-        stats = scene->renderer().render(*scene, control);
+    try {
+        if (ranks) ranks->bind(*scene), prog.sharing = ranks.get();
+        if (!o.resumeDir.empty()) applyResume(std::move(resumed), base, prog, ranks.get()), spp = prog.resumed.spp;
+        const bool previewed = o.previewPort >= 0;  // the same in every rank; the page is rank 0's
+        if ((sums || previewed) && prog.spp == 0 && prog.timeBudget <= 0.0 && prog.targetRelMSE <= 0.0)
+            prog.spp = base.spp = spp;  // the sampler's count, in passes that can be saved, shared or shown
+        o.progressive = o.progressive || sums || previewed;
+        std::unique_ptr<Preview> preview;
+        if (previewed && root)
+            preview = startPreview(o.previewPort, {o.scenePath, scene->renderer().typeName(), prog.spp,
+                                                   prog.timeBudget, prog.targetRelMSE});
+        if (!o.checkpointDir.empty()) {
+            writer.emplace(o.checkpointDir, o.checkpointEvery, base, prog.resumed);
+            prog.maxPassSeconds = o.checkpointEvery;
+        }
+        if (o.progressive) {
+            prog.progress = control.progress;
+            PassReport last;
+            stats = renderProgressive(
+                *scene, control, prog,
+                [&](const PassReport& r) {
+                    spp = r.spp;
+                    estimate = r.estimatedRelMSE;
+                    if (writer && writer->due(r)) writer->write(*scene, r, ranks.get());
+                    if (preview) preview->afterPass(*scene, r, ranks ? nullptr : &prog.maxPassSeconds);
+                    return true;
+                },
+                &last);
+            // The job's sums into rank 0; a last checkpoint, also of a render cut short (its
+            // partial pass's sample indices are counted as used, so none is drawn twice).
+            if (writer) {
+                const std::uint64_t bytes = writer->write(*scene, last, ranks.get());
+                if (root)
+                    log::info("checkpoint {} ({:.1f} MiB)", checkpointFile(o.checkpointDir).string(),
+                              double(bytes) / 1048576.0);
+            } else if (ranks) {
+                ranks->gather(false);
+            }
+            if (preview) preview->finish(*scene, last);
+        } else {
+            stats = scene->renderer().render(*scene, control);
+        }
+    } catch (const Error& e) {
+        if (ranks && ranks->processes() > 1) ranks->abort(e.what());
+        throw;
     }
     std::signal(SIGINT, SIG_DFL);
+    if (!root) return stats.interrupted ? 130 : 0;
 
     IFilm& film = scene->camera().film();
     FilmMetadata meta{{"effigi/version", version()},
-                      {"effigi/scene", std::filesystem::absolute(scenePath).string()},
+                      {"effigi/scene", std::filesystem::absolute(o.scenePath).string()},
                       {"effigi/renderer", scene->renderer().typeName()},
                       {"effigi/spp", std::to_string(spp)},
-                      {"effigi/reference", reference ? "true" : "false"},
+                      {"effigi/reference", o.reference ? "true" : "false"},
                       {"effigi/samples", std::to_string(stats.samples)},
                       {"effigi/seconds", fmt::format("{:.3f}", stats.seconds)},
                       {"effigi/interrupted", stats.interrupted ? "true" : "false"}};
-    std::filesystem::path out(outPath);
+    std::filesystem::path out(o.outPath);
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     for (const auto& f : film.write(out, meta)) std::printf("wrote %s\n", f.string().c_str());
 
-    if (verbose) {
+    if (o.verbose) {
         std::fprintf(stderr, "modules loaded:\n");
         for (const auto& m : Registry::instance().loadedModules()) std::fprintf(stderr, "  %s\n", m.c_str());
     }
@@ -189,7 +285,13 @@ int render(const std::vector<std::string>& args) {
                 stats.seconds > 0 ? double(stats.samples) / stats.seconds * 1e-6 : 0.0,
                 (unsigned long long)stats.rejectedSamples, peakMemoryMiB(),
                 stats.interrupted ? " (interrupted: partial image)" : "");
-    if (showStats) printWorkStats(stats);
+    if (ranks) {
+        const Ranks::Traffic t = ranks->traffic();
+        std::printf("MPI: %llu ranks x %d threads, %d reductions into rank 0 of %.2f MiB per rank, %.3f s in all\n",
+                    (unsigned long long)ranks->processes(), control.threads, t.reductions, t.lastBytes / 1048576.0,
+                    t.seconds);
+    }
+    if (o.showStats) printWorkStats(stats);
     if (prog.targetRelMSE > 0.0)
         std::printf("estimated relMSE %.3g (target %.3g) reached after %.2f s at %llu spp\n", estimate,
                     prog.targetRelMSE, stats.seconds, (unsigned long long)spp);

@@ -5,6 +5,7 @@
 // and colour space. Header-only because components/film/*.cpp each become a module.
 #include "effigi/core/error.hpp"
 #include "effigi/core/log.hpp"
+#include "effigi/interfaces/iaccumulator.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/render/image_block.hpp"
 #include "effigi/render/spectral_bins.hpp"
@@ -115,6 +116,43 @@ public:
         }
     }
 
+    /// The running sums (IAccumulator): the window's size and channels as the layout
+    /// ("film WxH" and one channel name a line), every pixel's channel sums and weight.
+    AccumulatorSums saveSums() const {
+        std::lock_guard lock(m_mutex);
+        AccumulatorSums s;
+        if (m_channels.empty()) return s;
+        s.layout = layoutOf(m_channels);
+        s.floats = m_data;
+        return s;
+    }
+    /// The channels of a layout saveSums() wrote for a film of this size; an error if it
+    /// is another film's.
+    std::vector<std::string> channelsOf(const AccumulatorSums& s) const {
+        std::vector<std::string> channels;
+        const std::string head = fmt::format("film {}x{}", m_size.x, m_size.y);
+        std::size_t at = s.layout.find('\n');
+        if (s.layout.substr(0, at) != head)
+            fail("film: the saved sums are of another film ('{}', this is '{}')", s.layout.substr(0, at), head);
+        while (at != std::string::npos) {
+            const std::size_t next = s.layout.find('\n', at + 1);
+            channels.push_back(s.layout.substr(at + 1, next == std::string::npos ? next : next - at - 1));
+            at = next;
+        }
+        const std::size_t expected = std::size_t(m_size.x) * std::size_t(m_size.y) * (channels.size() + 1);
+        if (channels.empty() || s.floats.size() != expected || !s.doubles.empty())
+            fail("film: the saved sums hold {} values, a {}x{} film with {} channels needs {}", s.floats.size(),
+                 m_size.x, m_size.y, channels.size(), expected);
+        return channels;
+    }
+    /// Put back sums of channelsOf(s) (prepare() with them first).
+    void loadSums(const AccumulatorSums& s) {
+        std::lock_guard lock(m_mutex);
+        if (s.layout != layoutOf(m_channels) || s.floats.size() != m_data.size())
+            fail("film: the saved sums do not fit the prepared film");
+        m_data = s.floats;
+    }
+
     /// Colour in the pixel format (RGB of the colour space for rgb/rgba), then the AOVs.
     /// Every value is finite (finiteValues()).
     Image develop() const {
@@ -191,6 +229,10 @@ private:
             m_warnedClamp = true;
             log::warn("film: {} developed value(s) overflowed float and were clamped to ±{:g}", clamped, FLT_MAX);
         }
+    }
+
+    std::string layoutOf(const std::vector<std::string>& channels) const {
+        return fmt::format("film {}x{}\n{}", m_size.x, m_size.y, fmt::join(channels, "\n"));
     }
 
     /// An image of the window's size with these channels, zeroed; no pixels if not

@@ -16,6 +16,9 @@
  * Wilkie, "An OpenEXR Layout for Spectral Images", JCGT 10(3), 2021 (spectral_exr.hpp).
  * The PNG is display-referred sRGB whatever `colorspace` is: exposure, then `tonemap`.
  *
+ * Running sums: the film is an IAccumulator, so a checkpoint can save its sums and a
+ * resumed render (or rank 0 of an MPI job, summing the ranks' films) put them back.
+ *
  * Limits: a film whose buffers do not fit in the machine's memory is refused with its
  * size when created and when a renderer prepares its channels. No developed value or file
  * holds Inf or NaN: a block pixel whose sums would overflow stays off the film, a value
@@ -108,7 +111,7 @@ void checkFilmMemory(const SourceLocation& where, const std::string& name, Vecto
                name, size.x, size.y, channels + 1, need / GiB, sums / GiB, (written + blocks) / GiB, have / GiB);
 }
 
-class HDRFilm final : public Implements<IFilm> {
+class HDRFilm final : public Implements<IFilm, IAccumulator> {
 public:
     static Schema schema() {
         Schema s("film", "hdrfilm", "High dynamic range film: filtered accumulation, OpenEXR output with a PNG preview.");
@@ -215,6 +218,12 @@ public:
     }
     void put(const ImageBlock& block) override { m_storage->put(block); }
     Image develop() const override { return m_storage->develop(); }
+    // IAccumulator: the sums of a checkpoint or of other MPI ranks (apps/effigi/render_mpi.cpp).
+    AccumulatorSums saveSums() const override { return m_storage->saveSums(); }
+    void loadSums(const AccumulatorSums& sums) override {
+        prepare(m_storage->channelsOf(sums));
+        m_storage->loadSums(sums);
+    }
 
     std::vector<std::filesystem::path> write(const std::filesystem::path& path, const FilmMetadata& meta) const override {
         std::filesystem::path main = path;

@@ -105,24 +105,13 @@ inline void writeExr(const fs::path& path, const Image& img, bool half, const RG
     }
 }
 
-/// 8-bit sRGB PNG of 1 (grey) or 3 (linear sRGB) channels: scaled by 2^exposure, tone
-/// mapped into [0, 1] (effigi/render/tonemap.hpp), sRGB-encoded; metadata as text chunks.
+/// 8-bit sRGB PNG of 1 (grey) or 3 (linear sRGB) channels, as displayBytes() makes them;
+/// metadata as text chunks.
 inline void writePng(const fs::path& path, int width, int height, int channels, const std::vector<float>& linear,
                      float exposure, ToneMap toneMap, const FilmMetadata& meta) {
     checkDirectory(path);
     if ((channels != 1 && channels != 3) || width <= 0 || height <= 0) cannotWrite(path, "the film holds no image");
-    const Vector3f luma = RGBColorSpace::get(ColorSpaceId::SRGB).luminanceWeights();
-    std::vector<std::uint8_t> bytes(linear.size());
-    auto encode = [](float v) { return std::uint8_t(std::lround(std::clamp(srgbEncode(v), 0.f, 1.f) * 255.f)); };
-    for (std::size_t i = 0; i + std::size_t(channels) <= linear.size(); i += std::size_t(channels)) {
-        if (channels == 3) {
-            Vector3f v = tonemap::apply(toneMap, Vector3f(linear[i], linear[i + 1], linear[i + 2]), exposure, luma);
-            for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = encode(v[c]);
-        } else {
-            bytes[i] = encode(tonemap::applyGrey(toneMap, linear[i], exposure));
-        }
-    }
-    writePngBytes(path, width, height, channels, bytes, meta);
+    writePngBytes(path, width, height, channels, displayBytes(channels, linear, exposure, toneMap), meta);
 }
 
 } // namespace effigi::hdrfilm_io

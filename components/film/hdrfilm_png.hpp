@@ -1,6 +1,6 @@
 #pragma once
-// 8-bit PNG files written with zlib alone, for hdrfilm's preview, `effigi convert` and the
-// app's converge reports.
+// 8-bit PNG files written with zlib alone, for hdrfilm's preview, `effigi convert`, the
+// app's converge reports and the live preview page (effigi render --preview).
 //
 // Why not OpenImageIO: every render writes a PNG beside its EXR (hdrfilm's png = true),
 // and OpenImageIO brings about 250 shared libraries, which cost ~0.2 s of start-up on
@@ -16,12 +16,15 @@
 #include "effigi/core/error.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/interfaces/ifilm.hpp"
+#include "effigi/render/tonemap.hpp"
+#include "effigi/spectral/colorspace.hpp"
 
 #include <zlib.h>
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -140,20 +143,11 @@ inline void removePartial(const fs::path& path) {
     if (fs::is_regular_file(path, ec)) fs::remove(path, ec);
 }
 
-} // namespace png_detail
-
-/// An 8-bit PNG of `channels` (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA) interleaved,
-/// already sRGB-encoded bytes, rows from the top; metadata as text chunks (a key that is
-/// no valid PNG keyword is skipped with a warning). Throws "cannot write <path>: ...".
-inline void writePngBytes(const fs::path& path, int width, int height, int channels,
-                          const std::vector<std::uint8_t>& bytes, const FilmMetadata& meta) {
-    using namespace png_detail;
-    checkDirectory(path);
-    if (channels < 1 || channels > 4 || width <= 0 || height <= 0 ||
-        bytes.size() != std::size_t(width) * std::size_t(height) * std::size_t(channels))
-        cannotWrite(path, fmt::format("no {}x{} image of {} channels in {} bytes", width, height, channels,
-                                      bytes.size()));
-
+/// The PNG of `channels` interleaved 8-bit values per pixel (`bytes`, rows from the top)
+/// into `f`: IHDR, sRGB, gAMA, cHRM, the text chunks `texts` (iTXt where `international`),
+/// IDAT, IEND. Returns 0, or the errno of a failed write, or -1 when zlib failed.
+inline int writeChunks(std::FILE* f, int width, int height, int channels, const std::vector<std::uint8_t>& bytes,
+                       const std::vector<std::vector<std::uint8_t>>& texts, const std::vector<bool>& international) {
     std::vector<std::uint8_t> ihdr;
     ChunkWriter::append32(ihdr, std::uint32_t(width));
     ChunkWriter::append32(ihdr, std::uint32_t(height));
@@ -164,24 +158,6 @@ inline void writePngBytes(const fs::path& path, int width, int height, int chann
     for (std::uint32_t v : {31270u, 32900u, 64000u, 33000u, 30000u, 60000u, 15000u, 6000u})
         ChunkWriter::append32(chrm, v);  // D65 white, then the Rec.709 primaries, x 100000
 
-    std::vector<std::vector<std::uint8_t>> texts;
-    std::vector<bool> international;
-    for (const auto& [key, value] : meta) {
-        if (!validKeyword(key) || value.find('\0') != std::string::npos) {
-            log::warn("{}: metadata key '{}' cannot be a PNG text chunk; skipped", path.string(), key);
-            continue;
-        }
-        const bool ascii = std::all_of(value.begin(), value.end(), [](char c) { return (unsigned char)c < 128; });
-        std::vector<std::uint8_t> t(key.begin(), key.end());
-        t.push_back(0);
-        if (!ascii) t.insert(t.end(), {0, 0, 0, 0});  // iTXt: uncompressed, no language, no translated key
-        t.insert(t.end(), value.begin(), value.end());
-        texts.push_back(std::move(t));
-        international.push_back(!ascii);
-    }
-
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) cannotWrite(path, std::strerror(errno));
     ChunkWriter out(f);
     static constexpr std::uint8_t Signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     out.raw(Signature, 8);
@@ -194,11 +170,7 @@ inline void writePngBytes(const fs::path& path, int width, int height, int chann
 
     // Rows are filtered and deflated one at a time; each full output buffer becomes an IDAT.
     z_stream z{};
-    if (deflateInit(&z, 6) != Z_OK) {
-        std::fclose(f);
-        removePartial(path);
-        cannotWrite(path, "zlib could not start");
-    }
+    if (deflateInit(&z, 6) != Z_OK) return -1;
     const std::size_t rowBytes = std::size_t(width) * std::size_t(channels);
     const std::vector<std::uint8_t> zeros(rowBytes, 0);  // the row above the first
     std::vector<std::uint8_t> filtered, trial, idat(std::size_t(1) << 18);
@@ -225,13 +197,88 @@ inline void writePngBytes(const fs::path& path, int width, int height, int chann
     if (status == Z_STREAM_END && z.avail_out < idat.size()) out.chunk("IDAT", idat.data(), idat.size() - z.avail_out);
     deflateEnd(&z);
     out.chunk("IEND", nullptr, 0);
-    const int writeError = out.error();
-    const bool closed = std::fclose(f) == 0;
-    if (status != Z_STREAM_END || writeError != 0 || !closed) {
-        removePartial(path);
-        cannotWrite(path, status != Z_STREAM_END ? "zlib failed to compress the image"
-                                                 : std::strerror(writeError ? writeError : errno));
+    return status != Z_STREAM_END ? -1 : out.error();
+}
+
+inline bool validShape(int width, int height, int channels, const std::vector<std::uint8_t>& bytes) {
+    return channels >= 1 && channels <= 4 && width > 0 && height > 0 &&
+           bytes.size() == std::size_t(width) * std::size_t(height) * std::size_t(channels);
+}
+
+} // namespace png_detail
+
+/// An 8-bit PNG of `channels` (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA) interleaved,
+/// already sRGB-encoded bytes, rows from the top; metadata as text chunks (a key that is
+/// no valid PNG keyword is skipped with a warning). Throws "cannot write <path>: ...".
+inline void writePngBytes(const fs::path& path, int width, int height, int channels,
+                          const std::vector<std::uint8_t>& bytes, const FilmMetadata& meta) {
+    using namespace png_detail;
+    checkDirectory(path);
+    if (!validShape(width, height, channels, bytes))
+        cannotWrite(path, fmt::format("no {}x{} image of {} channels in {} bytes", width, height, channels,
+                                      bytes.size()));
+
+    std::vector<std::vector<std::uint8_t>> texts;
+    std::vector<bool> international;
+    for (const auto& [key, value] : meta) {
+        if (!validKeyword(key) || value.find('\0') != std::string::npos) {
+            log::warn("{}: metadata key '{}' cannot be a PNG text chunk; skipped", path.string(), key);
+            continue;
+        }
+        const bool ascii = std::all_of(value.begin(), value.end(), [](char c) { return (unsigned char)c < 128; });
+        std::vector<std::uint8_t> t(key.begin(), key.end());
+        t.push_back(0);
+        if (!ascii) t.insert(t.end(), {0, 0, 0, 0});  // iTXt: uncompressed, no language, no translated key
+        t.insert(t.end(), value.begin(), value.end());
+        texts.push_back(std::move(t));
+        international.push_back(!ascii);
     }
+
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) cannotWrite(path, std::strerror(errno));
+    const int error = writeChunks(f, width, height, channels, bytes, texts, international);
+    const bool closed = std::fclose(f) == 0;
+    if (error != 0 || !closed) {
+        removePartial(path);
+        cannotWrite(path, error < 0 ? "zlib failed to compress the image" : std::strerror(error ? error : errno));
+    }
+}
+
+/// 8-bit sRGB values of 1 (grey) or 3 (linear sRGB) channels: scaled by 2^exposure, tone
+/// mapped into [0, 1] (effigi/render/tonemap.hpp), sRGB-encoded.
+inline std::vector<std::uint8_t> displayBytes(int channels, const std::vector<float>& linear, float exposure,
+                                              ToneMap toneMap) {
+    const Vector3f luma = RGBColorSpace::get(ColorSpaceId::SRGB).luminanceWeights();
+    std::vector<std::uint8_t> bytes(linear.size());
+    auto encode = [](float v) { return std::uint8_t(std::lround(std::clamp(srgbEncode(v), 0.f, 1.f) * 255.f)); };
+    for (std::size_t i = 0; i + std::size_t(channels) <= linear.size(); i += std::size_t(channels)) {
+        if (channels == 3) {
+            Vector3f v = tonemap::apply(toneMap, Vector3f(linear[i], linear[i + 1], linear[i + 2]), exposure, luma);
+            for (int c = 0; c < 3; ++c) bytes[i + std::size_t(c)] = encode(v[c]);
+        } else {
+            bytes[i] = encode(tonemap::applyGrey(toneMap, linear[i], exposure));
+        }
+    }
+    return bytes;
+}
+
+/// The PNG writePngBytes() writes, without text chunks, in memory (the live preview's
+/// images: effigi render --preview, apps/effigi/preview_server.cpp). Throws effigi::Error
+/// when it cannot.
+inline std::string encodePngBytes(int width, int height, int channels, const std::vector<std::uint8_t>& bytes) {
+    using namespace png_detail;
+    if (!validShape(width, height, channels, bytes))
+        fail("cannot encode a PNG: no {}x{} image of {} channels in {} bytes", width, height, channels, bytes.size());
+    char* data = nullptr;
+    std::size_t size = 0;
+    std::FILE* f = open_memstream(&data, &size);  // POSIX 2008: a FILE writing into a growing buffer
+    if (!f) fail("cannot encode a PNG: {}", std::strerror(errno));
+    const int error = writeChunks(f, width, height, channels, bytes, {}, {});
+    const bool closed = std::fclose(f) == 0;  // sets data and size
+    std::string png = error == 0 && closed ? std::string(data, size) : std::string();
+    std::free(data);
+    if (png.empty()) fail("cannot encode a PNG: {}", error < 0 ? "zlib failed" : std::strerror(error ? error : errno));
+    return png;
 }
 
 } // namespace effigi::hdrfilm_io

@@ -9,12 +9,16 @@
 
 namespace effigi {
 
-class SampledRenderer : public Implements<IRenderer, ISampleRenderer> {
+class SampledRenderer : public Implements<IRenderer, ISampleRenderer, IAccumulator> {
 public:
     RenderStats render(const Scene& scene, const RenderControl& control) override {
         return renderSampled(scene, control, *m_integrator, *this, m_variance);
     }
     bool varianceEstimate(std::vector<float>& variance) const override { return m_variance.get(variance); }
+    /// IAccumulator: a pass carries only the film and the variance store to the next, so
+    /// renders can be checkpointed, resumed and split over MPI ranks.
+    AccumulatorSums saveSums() const override { return m_variance.saveSums(); }
+    void loadSums(const AccumulatorSums& sums) override { m_variance.loadSums(sums); }
 
     /// The `integrator` child every such renderer takes.
     static void addIntegratorParam(Schema& s) {

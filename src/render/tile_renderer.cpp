@@ -12,6 +12,8 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cstdio>
+#include <limits>
 #include <memory>
 
 namespace effigi {
@@ -168,6 +170,48 @@ bool PixelVariance::get(std::vector<float>& variance) const {
     for (std::size_t i = 0; i < m_pixels.size(); ++i)
         for (int c = 0; c < 3; ++c) variance[3 * i + c] = float(m_pixels[i].variance[c] * m_filterFactor);
     return !m_pixels.empty();
+}
+
+AccumulatorSums PixelVariance::saveSums() const {
+    AccumulatorSums s;
+    if (m_pixels.empty()) return s;
+    s.layout = fmt::format("pixel variance {}x{}", m_width, m_pixels.size() / std::size_t(m_width));
+    s.doubles.resize(7 * m_pixels.size());
+    for (std::size_t i = 0; i < m_pixels.size(); ++i) {
+        const Pixel& p = m_pixels[i];
+        double* d = s.doubles.data() + 7 * i;
+        const double n = double(p.samples);
+        d[0] = n;
+        for (int c = 0; c < 3; ++c) {
+            // As Estimate::merge: a pixel of one sample (infinite variance) has no spread yet.
+            const double m2 = std::isfinite(p.variance[c]) ? double(p.variance[c]) * n * (n - 1.0) : 0.0;
+            d[1 + c] = n * double(p.mean[c]);
+            d[4 + c] = m2 + n * double(p.mean[c]) * double(p.mean[c]);
+        }
+    }
+    return s;
+}
+
+void PixelVariance::loadSums(const AccumulatorSums& s) {
+    int w = 0, h = 0;
+    if (std::sscanf(s.layout.c_str(), "pixel variance %dx%d", &w, &h) != 2 || w <= 0 || h <= 0 ||
+        s.layout != fmt::format("pixel variance {}x{}", w, h) || s.doubles.size() != 7 * std::size_t(w) * h ||
+        !s.floats.empty())
+        fail("renderer: saved error statistics of an unknown layout ('{}', {} values)", s.layout, s.doubles.size());
+    const std::size_t pixels = std::size_t(w) * std::size_t(h);
+    m_pixels.assign(pixels, Pixel{});
+    m_width = w;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const double* d = s.doubles.data() + 7 * i;
+        Pixel& p = m_pixels[i];
+        const double n = d[0];
+        p.samples = std::uint32_t(std::clamp(n, 0.0, double(0xffffffffu)));
+        for (int c = 0; c < 3 && n > 0.0; ++c) {
+            const double mean = d[1 + c] / n, m2 = std::max(0.0, d[4 + c] - n * mean * mean);
+            p.mean[c] = float(mean);
+            p.variance[c] = n > 1.0 ? float(m2 / (n - 1.0) / n) : std::numeric_limits<float>::infinity();
+        }
+    }
 }
 
 std::vector<NestedRenderer> nestedRenderers(const Properties& p) {

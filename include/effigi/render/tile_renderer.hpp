@@ -4,6 +4,7 @@
 // merged into the film as they finish. Progress, thread count and SIGINT come from the
 // RenderControl.
 #include "effigi/core/properties.hpp"
+#include "effigi/interfaces/iaccumulator.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 #include "effigi/interfaces/iintegrator.hpp"
 #include "effigi/interfaces/irenderer.hpp"
@@ -163,6 +164,13 @@ public:
     void merge(const Point2i& px, const Estimate& e);
     /// Variance of each pixel's R, G, B scaled by the film filter's factor; false if empty.
     bool get(std::vector<float>& variance) const;
+    /// The store as sums that add up when two disjoint sample sets are pooled (IAccumulator):
+    /// per pixel n, n·mean and M2 + n·mean² of R, G, B (7 doubles), M2 = variance·n·(n − 1),
+    /// so that adding them is the pooling of Estimate::merge (Chan, Golub & LeVeque 1979).
+    AccumulatorSums saveSums() const;
+    /// Put back sums of saveSums() (or pooled ones); the next prepare() with accumulate
+    /// keeps them if the film has their size.
+    void loadSums(const AccumulatorSums& sums);
 
 private:
     struct Pixel {
