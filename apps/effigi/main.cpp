@@ -20,6 +20,7 @@ void usage() {
                  "         [--checkpoint dir [--checkpoint-every 60s]] [--resume dir]   continue a killed render\n"
                  "         [--preview [port]]   watch it converge on http://127.0.0.1:port/ (8080; 0: any free port)\n"
                  "         (mpirun -np N effigi render ...: N ranks share the samples; docs/cluster.md)\n"
+                 "         [--frames A:B]   a sequence: $frame = A..B, -o out_{frame:04}.exr (ranks share the frames)\n"
                  "         [--dry-run]   load the scene (every component created), render nothing\n"
                  "         [--stats]     rays per sample and per second by kind; time in tracing, shading, film\n"
                  "  converge scene.xml [--reference ref.exr] [--renderer a,b] [--variant \"name: k=v ...\"]...\n"

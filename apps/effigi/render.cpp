@@ -151,9 +151,13 @@ RenderOptions parseOptions(const std::vector<std::string>& args) {
 } // namespace
 
 int render(const std::vector<std::string>& args) {
+    return hasFramesOption(args) ? renderFrames(args) : renderOne(args, true);
+}
+
+int renderOne(const std::vector<std::string>& args, bool joinMpi) {
     // Under mpirun every rank runs this; errors up to the render are agreed on, so that
     // one line is printed and every rank ends with exit code 1.
-    std::unique_ptr<Ranks> ranks = joinRanks();
+    std::unique_ptr<Ranks> ranks = joinMpi ? joinRanks() : nullptr;
     const bool root = !ranks || ranks->root();
     if (!root) log::setLevel(log::Level::Error);  // warnings once, from rank 0
     RenderOptions o;
