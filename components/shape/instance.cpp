@@ -33,7 +33,9 @@
 // accelerator without a per-shape motion code path. Area and sampling use the first pose.
 //
 // Parameters: to_world (affine, invertible at every key; default identity; may be an
-// <animation>) and exactly one nested or referenced shapegroup. Reference: Mitsuba 3 documentation, "Instance (instance)".
+// <animation>) and exactly one nested or referenced shapegroup, whose members may be
+// instances themselves (nested instancing). Reference: Mitsuba 3 documentation, "Instance
+// (instance)".
 #include "shapegroup.hpp"
 
 #include "effigi/core/registry.hpp"
@@ -109,6 +111,8 @@ public:
         m_bbox = m_animation.motionBounds(b);
 
         m_members = m_group->shapes();
+        m_nested = std::any_of(m_members.begin(), m_members.end(),
+                               [](const IShape* s) { return dynamic_cast<const Instance*>(s) != nullptr; });
         for (const IShape* s : m_members) {
             m_memberArea += s->area();
             m_areaCdf.push_back(m_memberArea);
@@ -157,7 +161,9 @@ public:
         if (!si.shape || si.shape == this) return IShape::localGeometry(si);
         const Placement pose = placementAt(si.time);
         SurfaceInteraction g = pose.toGroup(si);
-        LocalGeometry lg = g.shape->localGeometry(g);
+        // A member that is itself an instance answers through its own placement.
+        g.instance = memberInstanceAt(g);
+        LocalGeometry lg = g.instance ? g.instance->localGeometry(g) : g.shape->localGeometry(g);
         const Vector3f m = pose.normalMatrix * g.shading.n;
         const float len = length(m);
         if (!(len > 0.f) || !std::isfinite(len)) return LocalGeometry{lg.objectP, Vector3f(0.f), Vector3f(0.f)};
@@ -261,12 +267,27 @@ private:
         }
     };
 
+    /// The member instance (nested instancing) whose surface holds the group-space point
+    /// g, or null: an SurfaceInteraction names only the outermost instance, so the member
+    /// is found again by a short ray through g along its normal (a few ulps of |p| long).
+    const IShape* memberInstanceAt(const SurfaceInteraction& g) const {
+        if (!m_nested) return nullptr;
+        const float off = 16.f * 0x1p-17f * std::max(std::max(maxAbsComponent(g.p), g.pScale), 0x1p-60f);
+        Hit h;
+        if (!m_group->intersector().intersect(Ray{g.p + Vector3f(g.n) * off, -Vector3f(g.n), 2.f * off, g.time}, h) ||
+            h.shape >= m_members.size())
+            return nullptr;
+        const IShape* member = m_members[h.shape];
+        return dynamic_cast<const Instance*>(member) ? member : nullptr;
+    }
+
     Placement placementAt(float time) const {
         return m_animation.isAnimated() ? Placement(m_animation.at(time)) : m_rest;
     }
 
     Ref<IShapeGroup> m_group;
     std::span<const IShape* const> m_members;
+    bool m_nested = false;  ///< some member is an instance (nested instancing)
     std::vector<float> m_areaCdf;  // cumulative member areas in group space
     float m_memberArea = 0.f;
     AnimatedTransform m_animation;

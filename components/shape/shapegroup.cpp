@@ -1,6 +1,6 @@
 // shapegroup — shapes declared once for geometry instancing, not rendered by themselves.
 //
-// The nested shapes (any number, any type except another shapegroup or an instance) live
+// The nested shapes (any number, any type except another shapegroup) live
 // in the group's own space. The group builds one ray-query structure over them when it
 // is created; every `instance` that references the group traces its rays, transformed
 // into group space, through that one structure, so N instances share the group's
@@ -9,7 +9,9 @@
 //
 // As in Mitsuba 3, member shapes keep their own BSDFs (an instance cannot change them),
 // and members may not carry area emitters (an instanced light would need every instance
-// to be sampled; Mitsuba refuses this too), nor be shapegroups or instances themselves.
+// to be sampled; Mitsuba refuses this too), nor be shapegroups themselves. Unlike in
+// Mitsuba 3, a member may be an instance of another group: instancing nests (a forest of
+// trees of instanced leaves), each level tracing through its own group's structure.
 //
 // Parameters: any number of nested <shape> (named or not).
 // Reference: Mitsuba 3 documentation, "Shape group (shapegroup)" and "Instance (instance)".
@@ -33,7 +35,7 @@ public:
     static Schema schema() {
         Schema s("shape", "shapegroup", "Shapes declared once for instancing; invisible until an instance references them.");
         s.cite("Mitsuba 3 documentation, Shape group (shapegroup)");
-        s.children("shape", "Member shapes (not shapegroups, instances or shapes with emitters)");
+        s.children("shape", "Member shapes (not shapegroups or shapes with emitters; instances nest)");
         return s;
     }
 
@@ -44,9 +46,6 @@ public:
             const std::string& type = c->object->typeName();
             if (query<IShapeGroup>(c->object.get()))
                 failAt(e.where, "{}: a shapegroup cannot contain another shapegroup (nested groups are not supported)",
-                       p.describe());
-            if (type == "shape/instance")
-                failAt(e.where, "{}: a shapegroup cannot contain an instance (nested instancing is not supported)",
                        p.describe());
             Ref<IShape> shape = query<IShape>(c->object);
             if (!shape) failAt(e.where, "{}: nested '{}' is not a shape", p.describe(), type);
