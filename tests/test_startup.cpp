@@ -75,6 +75,7 @@ TEST_CASE("startup: a render to EXR and its PNG preview loads no OpenImageIO", "
     requireNoOpenImageIO(t);
     CHECK(loaded(t, "film-hdrfilm.so"));  // the film module that wrote both files ran
     CHECK_FALSE(loaded(t, "libcpp-httplib"));  // nor the live preview's server (render --preview only)
+    CHECK_FALSE(loaded(t, "libmpi"));          // nor MPI (ranks-mpi.so: under mpirun only)
     CHECK(fs::exists(dir / "x.exr"));
     CHECK(fs::exists(dir / "x.png"));
     fs::remove_all(dir);

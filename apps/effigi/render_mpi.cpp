@@ -1,4 +1,7 @@
-// joinRanks() with MPI (EFFIGI_MPI builds; Open MPI from Debian): a rank renders its
+// The ranks of an MPI job (EFFIGI_MPI builds; Open MPI from Debian), in the module
+// lib/effigi/ranks-mpi.so that joinRanks() (render_ranks.cpp) loads only under mpirun, so
+// that MPI's libraries (libmpi, Open RTE/PAL, hwloc, libevent) load in no other process.
+// A rank renders its
 // share of every progressive pass, and the ranks' running sums (IAccumulator: the film's
 // filter-weighted sums, the renderer's per-pixel error statistics) are added into rank 0
 // with MPI_Reduce, everyone else's cleared, whenever the job's image or error estimate
@@ -182,9 +185,9 @@ private:
 
 } // namespace
 
-std::unique_ptr<Ranks> joinRanks() {
-    if (launchedRanks() == 0) return nullptr;  // started on its own: no MPI_Init
-    return std::make_unique<MpiRanks>();
-}
-
 } // namespace effigi::app
+
+/// The module's entry point (render_ranks.hpp, ranks_module): MPI initialised.
+extern "C" __attribute__((visibility("default"))) effigi::app::Ranks* effigi_mpi_join_ranks() {
+    return new effigi::app::MpiRanks();
+}

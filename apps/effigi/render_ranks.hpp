@@ -47,10 +47,17 @@ public:
 };
 
 /// The ranks of the MPI job this process was launched in by mpirun (MPI initialised;
-/// finalised when the object goes), or null when it was started on its own. Defined by
-/// render_mpi.cpp, or, in builds without MPI, by render_ranks_none.cpp (which refuses to
-/// run under mpirun: every rank would render and write the whole image).
+/// finalised when the object goes), or null when it was started on its own. The MPI side
+/// (render_mpi.cpp) is the module lib/effigi/ranks-mpi.so, loaded here under mpirun only
+/// (render_ranks.cpp); without it (a build without MPI) a job of several ranks is refused,
+/// since every rank would render and write the whole image.
 std::unique_ptr<Ranks> joinRanks();
+
+namespace ranks_module {
+inline constexpr const char* ModuleFile = "ranks-mpi.so";
+inline constexpr const char* JoinSymbol = "effigi_mpi_join_ranks";
+using Join = Ranks* (*)();
+} // namespace ranks_module
 
 /// The number of processes of the job this one was launched in by a process manager
 /// (Open MPI's mpirun, MPICH's hydra; 1 when only PMIx says so, with no size), 0 when it
