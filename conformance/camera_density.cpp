@@ -6,9 +6,11 @@
 //    The integral is taken over the gnomonic chart (x/z, y/z) of camera space, where
 //    dω = cos³θ dx dy, by uniform points over a rectangle 20 % larger than the film's
 //    chart (a z-test at the suite's level: the estimate is a binomial fraction times the
-//    constant density inside, so its standard error is known).
+//    constant density inside, so its standard error is known); for panoramas, which see
+//    sideways and back, over the sphere chart (camera_chart.hpp: dω = sin y dx dy) whole.
 // Cameras whose direction is a delta (orthographic) have no density: pdfDirection()
 // returns 0 for them and the checks are skipped.
+#include "conformance/camera_chart.hpp"
 #include "conformance/conformance.hpp"
 #include "conformance/histogram.hpp"
 #include "effigi/interfaces/icamera.hpp"
@@ -70,6 +72,7 @@ void checkDirectionDensity(Target& t, const ICamera& cam, const ICameraImportanc
     // Normalisation from two lens points (the centre, and one off-centre for a thin lens).
     double worstZ = 0.0;
     std::string detail;
+    const bool around = seesAround(cam);
     for (Point2f lens : {Point2f(0.5f), Point2f(0.85f, 0.2f)}) {
         const Point3f at = lensPoint(ray(0.5f * Point2f(full), lens));
         double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
@@ -80,15 +83,20 @@ void checkDirectionDensity(Target& t, const ICamera& cam, const ICameraImportanc
         }
         const double mx = 0.1 * (x1 - x0), my = 0.1 * (y1 - y0);
         x0 -= mx, x1 += mx, y0 -= my, y1 += my;
+        if (around) x0 = -3.14159265358979323846, x1 = -x0, y0 = 0.0, y1 = x1;  // the sphere chart, whole
         const double area = (x1 - x0) * (y1 - y0);
         MeanVar integral;
         for (std::uint64_t i = 0; i < n; ++i) {
             double x = x0 + (x1 - x0) * rng.nextDouble(), y = y0 + (y1 - y0) * rng.nextDouble();
-            double cos3 = std::pow(1.0 + x * x + y * y, -1.5);
-            Vector3f d = normalize(cam.toWorld().vector(Vector3f(float(x), float(y), 1.f)));
-            integral.add(area * double(imp.pdfDirection(at, d)) * cos3);
+            const glm::dvec3 dl = around ? sphereDirection(x, y) : glm::dvec3(x, y, 1.0);
+            const double jacobian = around ? std::sin(y) : std::pow(1.0 + x * x + y * y, -1.5);  // dω per chart area
+            Vector3f d = normalize(cam.toWorld().vector(Vector3f(dl)));
+            integral.add(area * double(imp.pdfDirection(at, d)) * jacobian);
         }
-        double z = integral.stderror() > 0.0 ? (integral.mean - 1.0) / integral.stderror() : HUGE_VAL;
+        // A floor of 1e-5 on the standard error stands for the float round-off of the
+        // density (a latitude-longitude film's integrand is constant: its spread is ~1e-10).
+        const double se = std::sqrt(integral.stderror() * integral.stderror() + 1e-10);
+        double z = (integral.mean - 1.0) / se;
         worstZ = std::max(worstZ, std::abs(z));
         detail += fmt::format("{}lens ({}, {}): ∫ pdf dω = {:.4f} ± {:.2g}", detail.empty() ? "" : "; ", lens.x, lens.y,
                               integral.mean, integral.stderror());
@@ -96,7 +104,7 @@ void checkDirectionDensity(Target& t, const ICamera& cam, const ICameraImportanc
     double p = std::erfc(worstZ / std::sqrt(2.0));
     p = 1.0 - std::pow(1.0 - p, 2.0);  // the worst of two z-tests (Šidák)
     t.test("direction density integral", p, fmt::format("p = {:.3g}", p),
-           fmt::format("{} uniform points of the gnomonic chart per lens point; {}", n, detail));
+           fmt::format("{} uniform points of the {} chart per lens point; {}", n, around ? "sphere" : "gnomonic", detail));
 }
 
 } // namespace effigi::conform

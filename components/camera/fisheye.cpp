@@ -47,7 +47,7 @@ public:
         return s;
     }
 
-    explicit FisheyeCamera(const Properties& p) : PanoramaCamera(p) {
+    explicit FisheyeCamera(const Properties& p) : PanoramaCameraBase(p) {
         float fov = p.getFloat("fov");
         if (!(fov > 0.f && fov <= 360.f))
             failAt(p.whereOf("fov"), "{}: parameter 'fov' = {} must lie in (0, 360] degrees", p.describe(), fov);

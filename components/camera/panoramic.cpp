@@ -22,7 +22,8 @@
 //   to_world                 transform  camera-to-world (lookat); rotation and translation only
 //   film, sampler, medium    nested  default: hdrfilm and independent; medium optional
 //
-// No ICameraImportance: ptracer and bdpt refuse this camera with a one-line error.
+// ICameraImportance (ptracer, bdpt connect to it): the ray density of a direction per unit
+// solid angle (see project()), which is also the importance.
 // Reference: R. Szeliski, H.-Y. Shum, "Creating full view panoramic image mosaics and
 // environment maps", SIGGRAPH 1997; R. Szeliski, Computer Vision (2nd ed.), §8.2.6.
 #include "panorama.hpp"
@@ -30,7 +31,7 @@
 namespace effigi {
 namespace {
 
-class PanoramicCamera final : public camera::PanoramaCamera {
+class PanoramicCamera final : public camera::PanoramaCameraBase<ICameraImportance> {
 public:
     static Schema schema() {
         Schema s("camera", "panoramic",
@@ -52,7 +53,7 @@ public:
         return s;
     }
 
-    explicit PanoramicCamera(const Properties& p) : PanoramaCamera(p) {
+    explicit PanoramicCamera(const Properties& p) : PanoramaCameraBase(p) {
         float hfov = p.getFloat("hfov"), vfov = p.getFloat("vfov");
         if (!(hfov > 0.f && hfov <= 360.f))
             failAt(p.whereOf("hfov"), "{}: parameter 'hfov' = {} must lie in (0, 360] degrees", p.describe(), hfov);
@@ -70,7 +71,26 @@ public:
         return rayAlong(normalize(Vector3f(std::sin(alpha), h, std::cos(alpha))), s.time);
     }
 
+    bool sampleDirection(const Point3f& ref, const Point2f&, CameraImportanceSample& out) const override {
+        return connect(ref, out, [this](const Vector3f& d) { return project(d); });
+    }
+    float pdfDirection(const Point3f&, const Vector3f& d) const override {
+        return densityOf(d, [this](const Vector3f& w) { return project(w); });
+    }
+
 private:
+    /// The inverse of generateRay's map: α = atan2(d.x, d.z), h = d.y / |(d.x, d.z)|.
+    /// Film positions are uniform in (α, h), and a patch dα dh subtends (1 + h²)^(−3/2) sr,
+    /// so the density per solid angle is (1 + h²)^(3/2) / (hfov · 2 tan(vfov/2)).
+    camera::PanoramaProjection project(const Vector3f& d) const {
+        const float horizontal = std::sqrt(d.x * d.x + d.z * d.z);
+        if (!(horizontal > 0.f)) return {};
+        const float alpha = std::atan2(d.x, d.z), h = d.y / horizontal;
+        const Point2f q(0.5f - alpha / m_hfov, 0.5f * (1.f - h / m_tanHalf));
+        if (!(q.x >= 0.f && q.x <= 1.f && q.y >= 0.f && q.y <= 1.f)) return {};
+        return {q, std::pow(1.f + h * h, 1.5f) / (m_hfov * 2.f * m_tanHalf)};
+    }
+
     float m_hfov = 2.f * Pi, m_tanHalf = 1.f;
 };
 

@@ -17,7 +17,9 @@
 //   to_world                 transform  camera-to-world (lookat); rotation and translation only
 //   film, sampler, medium    nested  default: hdrfilm and independent; medium optional
 //
-// No ICameraImportance: ptracer and bdpt refuse this camera with a one-line error.
+// ICameraImportance (ptracer, bdpt connect to it): film positions are uniform, so the
+// density of a ray direction per unit solid angle is 1 / (2π² sin θ), which is also the
+// camera's importance (it integrates to 1 over the sphere, and rays have weight 1).
 // Reference: Mitsuba 0.6 documentation, §8.10 "Spherical camera (spherical)";
 // the equirectangular projection, J. P. Snyder, Map Projections — A Working Manual (1987), §12.
 #include "panorama.hpp"
@@ -25,7 +27,7 @@
 namespace effigi {
 namespace {
 
-class SphericalCamera final : public camera::PanoramaCamera {
+class SphericalCamera final : public camera::PanoramaCameraBase<ICameraImportance> {
 public:
     static Schema schema() {
         Schema s("camera", "spherical",
@@ -43,12 +45,28 @@ public:
         return s;
     }
 
-    explicit SphericalCamera(const Properties& p) : PanoramaCamera(p) {}
+    explicit SphericalCamera(const Properties& p) : PanoramaCameraBase(p) {}
 
     Ray generateRay(const CameraSample& s, const SampledWavelengths&, SampledSpectrum& weight) const override {
         Point2f q = s.pFilm / m_size;
         weight = SampledSpectrum(1.f);
         return rayAlong(camera::azimuthPolar(Pi * (1.f - 2.f * q.x), Pi * q.y), s.time);
+    }
+
+    bool sampleDirection(const Point3f& ref, const Point2f&, CameraImportanceSample& out) const override {
+        return connect(ref, out, project);
+    }
+    float pdfDirection(const Point3f&, const Vector3f& d) const override { return densityOf(d, project); }
+
+private:
+    /// The inverse of generateRay's map: θ = atan2(|(d.x, d.z)|, d.y), φ = atan2(d.x, d.z).
+    /// (Not acos d.y: in float it loses θ within 3e-4 rad of the poles, where the density
+    /// 1/sin θ then went to 0.)
+    static camera::PanoramaProjection project(const Vector3f& d) {
+        const float sinTheta = std::sqrt(d.x * d.x + d.z * d.z);
+        const float theta = std::atan2(sinTheta, d.y), phi = std::atan2(d.x, d.z);
+        if (!(sinTheta > 0.f)) return {};
+        return {Point2f(0.5f * (1.f - phi / Pi), theta / Pi), 1.f / (2.f * Pi * Pi * sinTheta)};
     }
 };
 
