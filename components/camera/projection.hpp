@@ -172,7 +172,7 @@ protected:
     /// for a moving camera, carried to the pose at that time.
     Ray timed(Ray ray, float u) const {
         ray.time = m_shutterOpen + u * (m_shutterClose - m_shutterOpen);
-        if (!moves()) return ray;
+        if (!m_motion.isAnimated()) return ray;
         const Transform delta = m_motion.at(ray.time) * m_fromRest;
         ray.o = delta.point(ray.o);
         ray.d = normalize(delta.vector(ray.d));

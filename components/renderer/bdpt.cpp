@@ -174,7 +174,7 @@ private:
 RenderStats BdptRenderer::render(const Scene& scene, const RenderControl& control) {
     ICamera& camera = scene.camera();
     IFilm& film = camera.film();
-    Context ctx = makeContext(scene, m_maxDepth, m_rrDepth, *m_generator, "renderer 'bdpt'");
+    Context ctx = makePathContext(scene, m_maxDepth, m_rrDepth, *m_generator, "renderer 'bdpt'");
     std::vector<std::string> channels = {"X", "Y", "Z"};
     channels.insert(channels.end(), m_strategies.names().begin(), m_strategies.names().end());
     if (!control.accumulate) film.prepare(channels);

@@ -19,7 +19,7 @@ class BdptMLTEstimator final : public MLTEstimator {
 public:
     BdptMLTEstimator(const Scene& scene, int maxDepth, int rrDepth, bool hideEmitters, int minLength,
                      const IPathGenerator& generator)
-        : m_ctx(bdpt::makeContext(scene, maxDepth, rrDepth, generator, "renderer 'pssmlt' with technique 'bdpt'")),
+        : m_ctx(makePathContext(scene, maxDepth, rrDepth, generator, "renderer 'pssmlt' with technique 'bdpt'")),
           m_camera(scene.camera()), m_hideEmitters(hideEmitters), m_minLength(minLength),
           m_offset(scene.camera().film().cropOffset()) {
         const Vector2i full = scene.camera().film().fullSize(), size = scene.camera().film().size();

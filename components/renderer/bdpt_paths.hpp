@@ -1,7 +1,7 @@
 #pragma once
 // bdpt's names for the types of path space (include/effigi/render/path_vertex.hpp,
-// path_context.hpp) and the context of a scene: the camera's importance, the finite
-// emitters and the path generator (the renderer's `pathgenerator` child, default `bsdf`).
+// path_context.hpp; makePathContext builds the context of a scene) and the renderer's
+// `pathgenerator` child (default `bsdf`).
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/isampler.hpp"
 #include "effigi/render/path_context.hpp"
@@ -19,12 +19,6 @@ inline Ref<IPathGenerator> pathGenerator(const Properties& p) {
     if (g) return g;
     Properties d("pathgenerator", "bsdf", p.where());
     return query<IPathGenerator>(Registry::instance().create("pathgenerator", "bsdf", d));
-}
-
-/// The strategies' context for a scene (makePathContext; errors name `who`).
-inline Context makeContext(const Scene& scene, int maxDepth, int rrDepth, const IPathGenerator& generator,
-                           const char* who) {
-    return makePathContext(scene, maxDepth, rrDepth, generator, who);
 }
 
 } // namespace effigi::bdpt

@@ -123,7 +123,9 @@ public:
 
     bool intersect(const Ray& ray, float& t, Point2f& uv) const override {
         Hit h;
-        if (!m_group->intersector().intersect(placementAt(ray.time).toGroup(ray), h)) return false;
+        // Only the pose's inverse is needed here, not a whole Placement (its normals' matrix).
+        const Ray local = m_animation.isAnimated() ? rayInto(m_animation.at(ray.time), ray) : m_rest.toGroup(ray);
+        if (!m_group->intersector().intersect(local, h)) return false;
         t = h.t;
         uv = Point2f(0.f);
         return true;
@@ -211,6 +213,13 @@ private:
         return l2 > 0.f && std::isfinite(l2) ? v / std::sqrt(l2) : fallback;
     }
 
+    /// The world ray in group space under the pose toWorld (direction not renormalised, so
+    /// t is the same in both spaces).
+    static Ray rayInto(const Transform& toWorld, const Ray& ray) {
+        const glm::mat4& inv = toWorld.inverseMatrix();
+        return Ray{Point3f(inv * glm::vec4(ray.o, 1.f)), Vector3f(inv * glm::vec4(ray.d, 0.f)), ray.tMax, ray.time};
+    }
+
     /// One pose of the group: to_world, its linear part and the normals' matrix.
     struct Placement {
         Transform transform;
@@ -219,11 +228,7 @@ private:
         explicit Placement(const Transform& t)
             : transform(t), linear(t.matrix()), normalMatrix(glm::transpose(glm::inverse(linear))) {}
 
-        Ray toGroup(const Ray& ray) const {
-            const glm::mat4& inv = transform.inverseMatrix();
-            return Ray{Point3f(inv * glm::vec4(ray.o, 1.f)), Vector3f(inv * glm::vec4(ray.d, 0.f)), ray.tMax,
-                       ray.time};
-        }
+        Ray toGroup(const Ray& ray) const { return rayInto(transform, ray); }
 
         /// Carry a member's surface description from group space to world space.
         void toWorld(SurfaceInteraction& si) const {
