@@ -2,7 +2,7 @@
 //
 // Triangle meshes become Embree triangle geometry; analytic shapes (spheres, disks)
 // become user geometry that calls back into IShape::intersect. Batches of rays (the
-// wavefront renderers') are traced as 16-wide packets (rtcIntersect16 / rtcOccluded16),
+// wavefront renderers') are traced as packets of the CPU's width (rtcIntersect8/16, rtcOccluded8/16),
 // as Embree streams (rtcIntersect1M) or one ray at a time, by the `batch` parameter;
 // bench/RESULTS.md has what each gives per ray kind (packets are the default).
 // Parameters: robust (bool) — Embree's robust mode, which never misses hits on edges and
@@ -71,12 +71,12 @@ void userOccluded(const RTCOccludedFunctionNArguments* args) {
 class Embree final : public Implements<IIntersect> {
 public:
     static Schema schema() {
-        Schema s("accelerator", "embree", "Intel Embree 3 BVH (default accelerator); packets of 16 for batches.");
+        Schema s("accelerator", "embree", "Intel Embree 3 BVH (default accelerator); packets of 8 (AVX2) or 16 (AVX-512) rays for batches.");
         s.cite("Wald et al. 2014, Embree: A Kernel Framework for Efficient CPU Ray Tracing, ACM TOG 33(4)");
         s.boolean("robust", true,
                   "Robust traversal: no missed hits on edges and vertices, about 20 % slower rays (Mitsuba 3's "
                   "default is off; a scene-level embree_use_robust_intersections sets it)");
-        s.string("batch", "packet", "How batches of rays are traced: packet (16 wide), stream (rtcIntersect1M), single")
+        s.string("batch", "packet", "How batches of rays are traced: packet (8 or 16 wide, as the CPU), stream (rtcIntersect1M), single")
             .oneOf({"packet", "stream", "single"});
         return s;
     }
@@ -87,6 +87,9 @@ public:
         m_device = rtcNewDevice(nullptr);
         if (!m_device) fail("embree: cannot create a device (error {})", int(rtcGetDeviceError(nullptr)));
         rtcSetDeviceErrorFunction(m_device, onEmbreeError, nullptr);
+        // Packets as wide as the CPU's vectors: 16 lanes need AVX-512; on AVX2 Embree
+        // runs a 16-wide packet as two 8-wide halves, measured slower than 8-wide packets.
+        m_packet16 = rtcGetDeviceProperty(m_device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
     }
     ~Embree() override {
         if (m_scene) rtcReleaseScene(m_scene);
@@ -133,53 +136,65 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
         if (m_batch == Batch::Single) return IIntersect::intersect(rays, hits);
         if (m_batch == Batch::Stream) return intersectStream(rays, hits);
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        for (std::size_t base = 0; base < rays.size(); base += 16) {
-            alignas(64) int valid[16];
-            RTCRayHit16 rh;
-            std::size_t n = std::min<std::size_t>(16, rays.size() - base);
-            for (std::size_t j = 0; j < 16; ++j) {
-                const Ray& r = rays[base + std::min(j, n - 1)];
-                valid[j] = j < n ? -1 : 0;
-                setLane(rh.ray, j, r);
-                rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
-            }
-            rtcIntersect16(valid, m_scene, &ctx, &rh);
-            for (std::size_t j = 0; j < n; ++j) {
-                Hit& h = hits[base + j];
-                h = Hit{};
-                if (rh.hit.geomID[j] == RTC_INVALID_GEOMETRY_ID) continue;
-                h = Hit{rh.ray.tfar[j], rh.hit.geomID[j], rh.hit.primID[j], {rh.hit.u[j], rh.hit.v[j]}};
-            }
-        }
+        if (m_packet16) return intersectPackets<16, RTCRayHit16>(rays, hits);
+        intersectPackets<8, RTCRayHit8>(rays, hits);
     }
 
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const override {
         if (m_batch == Batch::Single) return IIntersect::occluded(rays, out);
         if (m_batch == Batch::Stream) return occludedStream(rays, out);
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
-        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-        for (std::size_t base = 0; base < rays.size(); base += 16) {
-            alignas(64) int valid[16];
-            RTCRay16 r;
-            std::size_t n = std::min<std::size_t>(16, rays.size() - base);
-            for (std::size_t j = 0; j < 16; ++j) {
-                valid[j] = j < n ? -1 : 0;
-                setLane(r, j, rays[base + std::min(j, n - 1)]);
-            }
-            rtcOccluded16(valid, m_scene, &ctx, &r);
-            for (std::size_t j = 0; j < n; ++j) out[base + j] = r.tfar[j] < 0.f ? 1 : 0;
-        }
+        if (m_packet16) return occludedPackets<16, RTCRay16>(rays, out);
+        occludedPackets<8, RTCRay8>(rays, out);
     }
 
     BBox3f bbox() const override { return m_bbox; }
 
 private:
     enum class Batch { Packet, Stream, Single };
+
+    /// Packets of W rays (W = the CPU's native width, see m_packet16); the last packet's
+    /// unused lanes repeat its last ray, masked off.
+    template <int W, class RayHitW>
+    void intersectPackets(std::span<const Ray> rays, std::span<Hit> hits) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        for (std::size_t base = 0; base < rays.size(); base += W) {
+            alignas(64) int valid[W];
+            RayHitW rh;
+            std::size_t n = std::min<std::size_t>(W, rays.size() - base);
+            for (std::size_t j = 0; j < W; ++j) {
+                valid[j] = j < n ? -1 : 0;
+                setLane(rh.ray, j, rays[base + std::min(j, n - 1)]);
+                rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+                rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+            }
+            if constexpr (W == 16) rtcIntersect16(valid, m_scene, &ctx, &rh);
+            else rtcIntersect8(valid, m_scene, &ctx, &rh);
+            for (std::size_t j = 0; j < n; ++j)
+                hits[base + j] = rh.hit.geomID[j] == RTC_INVALID_GEOMETRY_ID
+                                     ? Hit{}
+                                     : Hit{rh.ray.tfar[j], rh.hit.geomID[j], rh.hit.primID[j], {rh.hit.u[j], rh.hit.v[j]}};
+        }
+    }
+    template <int W, class RayW>
+    void occludedPackets(std::span<const Ray> rays, std::span<std::uint8_t> out) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        for (std::size_t base = 0; base < rays.size(); base += W) {
+            alignas(64) int valid[W];
+            RayW r;
+            std::size_t n = std::min<std::size_t>(W, rays.size() - base);
+            for (std::size_t j = 0; j < W; ++j) {
+                valid[j] = j < n ? -1 : 0;
+                setLane(r, j, rays[base + std::min(j, n - 1)]);
+            }
+            if constexpr (W == 16) rtcOccluded16(valid, m_scene, &ctx, &r);
+            else rtcOccluded8(valid, m_scene, &ctx, &r);
+            for (std::size_t j = 0; j < n; ++j) out[base + j] = r.tfar[j] < 0.f ? 1 : 0;
+        }
+    }
 
     /// Embree's stream mode: it regroups the rays into packets itself.
     void intersectStream(std::span<const Ray> rays, std::span<Hit> hits) const {
@@ -224,7 +239,8 @@ private:
         r.id = 0;
         r.flags = 0;
     }
-    static void setLane(RTCRay16& r, std::size_t j, const Ray& ray) {
+    template <class RayW>
+    static void setLane(RayW& r, std::size_t j, const Ray& ray) {
         r.org_x[j] = ray.o.x, r.org_y[j] = ray.o.y, r.org_z[j] = ray.o.z;
         r.dir_x[j] = ray.d.x, r.dir_y[j] = ray.d.y, r.dir_z[j] = ray.d.z;
         r.tnear[j] = MinT;
@@ -260,6 +276,7 @@ private:
 
     bool m_robust;
     Batch m_batch = Batch::Packet;
+    bool m_packet16 = true;
     RTCDevice m_device = nullptr;
     RTCScene m_scene = nullptr;
     BBox3f m_bbox;

@@ -13,22 +13,32 @@ inline constexpr float LambdaMax = 830.f;
 inline constexpr int NSpectrumSamples = 4;
 
 /// Values of a spectral quantity at the path's sampled wavelengths.
+///
+/// Held in one 16-byte vector (a GCC/Clang vector extension, any target): arithmetic is
+/// one instruction for the four wavelengths, and — what matters more — the x86-64 ABI
+/// passes and returns it in one SSE register. As std::array<float, 4> it came back from
+/// every non-inlined call (IBSDF::f, ITexture::eval, IEmitter::eval, ...) as two 8-byte
+/// halves that the caller stored and reloaded as one 16-byte value: a failed store
+/// forward, ~12 cycles, several times per bounce (bench/RESULTS.md, 2026-11-28).
 class SampledSpectrum {
+    using V = float __attribute__((vector_size(16), __may_alias__));
+
 public:
     SampledSpectrum() = default;
-    explicit SampledSpectrum(float c) { m_v.fill(c); }
+    explicit SampledSpectrum(float c) : m_v{c, c, c, c} {}
     SampledSpectrum(float a, float b, float c, float d) : m_v{a, b, c, d} {}
 
-    float& operator[](int i) { return m_v[i]; }
+    // Element access through float*: V is may_alias, so this is how GCC documents it.
+    float& operator[](int i) { return reinterpret_cast<float*>(&m_v)[i]; }
     float operator[](int i) const { return m_v[i]; }
 
 #define EFFIGI_SPECTRUM_OP(op)                                                        \
     SampledSpectrum& operator op##=(const SampledSpectrum& o) {                       \
-        for (int i = 0; i < NSpectrumSamples; ++i) m_v[i] op## = o.m_v[i];           \
+        m_v op## = o.m_v;                                                             \
         return *this;                                                                 \
     }                                                                                 \
     SampledSpectrum& operator op##=(float s) {                                        \
-        for (int i = 0; i < NSpectrumSamples; ++i) m_v[i] op## = s;                  \
+        m_v op## = s;                                                                 \
         return *this;                                                                 \
     }                                                                                 \
     friend SampledSpectrum operator op(SampledSpectrum a, const SampledSpectrum& b) { \
@@ -42,27 +52,24 @@ public:
     friend SampledSpectrum operator*(float s, SampledSpectrum a) { return a *= s; }
     /// Division that yields 0 where the divisor is 0 (pdf ratios of absent wavelengths).
     friend SampledSpectrum safeDiv(SampledSpectrum a, const SampledSpectrum& b) {
-        for (int i = 0; i < NSpectrumSamples; ++i) a.m_v[i] = b.m_v[i] != 0.f ? a.m_v[i] / b.m_v[i] : 0.f;
+        for (int i = 0; i < NSpectrumSamples; ++i) a[i] = b[i] != 0.f ? a[i] / b[i] : 0.f;
         return a;
     }
     SampledSpectrum operator/(float s) const { return *this * (1.f / s); }
 
-    bool isBlack() const {
-        for (float v : m_v)
-            if (v != 0.f) return false;
-        return true;
-    }
+    bool isBlack() const { return m_v[0] == 0.f && m_v[1] == 0.f && m_v[2] == 0.f && m_v[3] == 0.f; }
     bool isFinite() const {
-        for (float v : m_v)
-            if (!std::isfinite(v)) return false;
+        for (int i = 0; i < NSpectrumSamples; ++i)
+            if (!std::isfinite(m_v[i])) return false;
         return true;
     }
     float maxValue() const { return std::max(std::max(m_v[0], m_v[1]), std::max(m_v[2], m_v[3])); }
     float average() const { return 0.25f * (m_v[0] + m_v[1] + m_v[2] + m_v[3]); }
 
 private:
-    std::array<float, NSpectrumSamples> m_v{};
+    V m_v{};
 };
+static_assert(sizeof(SampledSpectrum) == NSpectrumSamples * sizeof(float));
 
 inline SampledSpectrum exp(SampledSpectrum s) {
     for (int i = 0; i < NSpectrumSamples; ++i) s[i] = std::exp(s[i]);
