@@ -8,8 +8,10 @@
 // Parameters: robust (bool) — Embree's robust mode, which never misses hits on edges and
 // vertices, at about 20 % of ray speed. On by default, unlike Mitsuba 3: without it the
 // conformance suite finds misses on edges (4 % of its edge rays) and a mirror's image
-// loses 0.4 % of its light through cracks (tests/test_mirror_render.cpp); batch (packet | stream | single). Reference: Wald et al. 2014, "Embree: A Kernel Framework
-// for Efficient CPU Ray Tracing", ACM TOG 33(4).
+// loses 0.4 % of its light through cracks (tests/test_mirror_render.cpp); batch (packet |
+// packet8 | packet16 | stream | single): packet is 16 wide where the CPU has AVX-512, else 8.
+// Reference: Wald et al. 2014, "Embree: A Kernel Framework for Efficient CPU Ray Tracing",
+// ACM TOG 33(4).
 #include "effigi/core/log.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/interfaces/iintersect.hpp"
@@ -76,8 +78,14 @@ public:
         s.boolean("robust", true,
                   "Robust traversal: no missed hits on edges and vertices, about 20 % slower rays (Mitsuba 3's "
                   "default is off; a scene-level embree_use_robust_intersections sets it)");
-        s.string("batch", "packet", "How batches of rays are traced: packet (8 or 16 wide, as the CPU), stream (rtcIntersect1M), single")
-            .oneOf({"packet", "stream", "single"});
+        s.string("batch", "packet",
+                 "How batches of rays are traced: packet (8 or 16 wide, as the CPU's vectors), packet8 or packet16 "
+                 "(that width on any CPU), stream (rtcIntersect1M), single")
+            .oneOf({"packet", "packet8", "packet16", "stream", "single"});
+        // Both packet widths on every machine: the one the CPU does not pick is checked too.
+        s.addConformance({"default", {}});
+        s.addConformance({"packets of 8", {{"batch", std::string("packet8")}}});
+        s.addConformance({"packets of 16", {{"batch", std::string("packet16")}}});
         return s;
     }
 
@@ -87,9 +95,10 @@ public:
         m_device = rtcNewDevice(nullptr);
         if (!m_device) fail("embree: cannot create a device (error {})", int(rtcGetDeviceError(nullptr)));
         rtcSetDeviceErrorFunction(m_device, onEmbreeError, nullptr);
-        // Packets as wide as the CPU's vectors: 16 lanes need AVX-512; on AVX2 Embree
-        // runs a 16-wide packet as two 8-wide halves, measured slower than 8-wide packets.
-        m_packet16 = rtcGetDeviceProperty(m_device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
+        // Packets as wide as the CPU's vectors: 16 lanes need AVX-512; on an AVX2 machine
+        // packets of 16 gave 4 % fewer samples/s than packets of 8 (bench/RESULTS.md).
+        m_packet16 = batch == "packet16" ||
+                     (batch == "packet" && rtcGetDeviceProperty(m_device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0);
     }
     ~Embree() override {
         if (m_scene) rtcReleaseScene(m_scene);
