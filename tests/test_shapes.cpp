@@ -91,6 +91,60 @@ TEST_CASE("rectangle: geometry, winding, transforms, flip_normals", "[shapes]") 
     }
 }
 
+TEST_CASE("rectangle: the plane's constant frame agrees with its parametrisation", "[shapes]") {
+    // Rectangle shades hits with a frame computed once and samples corner + u.x e1 + u.y e2.
+    // For placed rectangles (rotation, unequal scales, translation, flipped or not), two
+    // hits must differ by Δuv.x dp/du + Δuv.y dp/dv, the frame must be orthonormal about
+    // n = ±(dp/du × dp/dv)/|…| with s along dp/du, and a sample at u must have uv = u.
+    PCG32 rng(7, 1);
+    for (bool flip : {false, true}) {
+        Properties p("shape", "rectangle");
+        p.set("to_world", Transform::translate({0.3f, -1.f, 2.f}) * Transform::rotate({0.2f, 1.f, 0.4f}, 37.f) *
+                              Transform::scale({3.f, 0.5f, 1.f}));
+        p.set("flip_normals", flip);
+        Ref<IShape> r = makeShape("rectangle", p);
+        const PositionSample corner = r->samplePosition({0.f, 0.f});
+        std::vector<SurfaceInteraction> hits;
+        for (int k = 0; k < 64; ++k) {
+            const Point2f u(rng.nextFloat(), rng.nextFloat());
+            const PositionSample ps = r->samplePosition(u);
+            CHECK(ps.uv == u);
+            CHECK(ps.pdf == Approx(1.f / r->area()));
+            const Vector3f off = 0.5f * ps.n + Vector3f(0.01f, 0.02f, 0.f);
+            Ray ray{ps.p + off, -off};
+            Hit h;
+            if (!intersectMesh(*r->mesh(), ray, h)) continue;
+            hits.push_back(r->interaction(ray, h));
+            const SurfaceInteraction& si = hits.back();
+            const Vector3f cross_ = cross(si.dpdu, si.dpdv);
+            CHECK(dot(si.n, cross_ / length(cross_)) == Approx(flip ? -1.f : 1.f).margin(1e-5));
+            CHECK(si.n == ps.n);
+            CHECK(si.shading.n == si.n);
+            CHECK(dot(si.shading.s, si.dpdu / length(si.dpdu)) == Approx(1.f).margin(1e-5));
+            CHECK(dot(si.shading.s, si.shading.t) == Approx(0.f).margin(1e-6));
+            CHECK(length(si.shading.t) == Approx(1.f).margin(1e-6));
+            CHECK(dot(cross(si.shading.s, si.shading.t), si.shading.n) == Approx(1.f).margin(1e-5));
+            const Point3f fromUV = corner.p + si.uv.x * si.dpdu + si.uv.y * si.dpdv;
+            CHECK(length(fromUV - si.p) < 1e-5f * 3.f);
+        }
+        REQUIRE(hits.size() > 50);
+        for (std::size_t k = 1; k < hits.size(); ++k) {
+            const Vector2f duv = hits[k].uv - hits[0].uv;
+            CHECK(length(hits[k].p - hits[0].p - (duv.x * hits[0].dpdu + duv.y * hits[0].dpdv)) < 1e-5f * 3.f);
+        }
+    }
+    // A projective to_world leaves no parallelogram: sampled and shaded as the mesh.
+    Properties p("shape", "rectangle");
+    p.set("to_world", Transform::perspective(60.f, 0.1f, 10.f) * Transform::translate({0.f, 0.f, 3.f}) *
+                          Transform::rotate({1.f, 0.f, 0.f}, 50.f));
+    Ref<IShape> q = makeShape("rectangle", p);
+    for (float v : {0.1f, 0.5f, 0.9f}) {
+        const PositionSample ps = q->samplePosition({0.5f, v});
+        CHECK(length(ps.n) == Approx(1.f));
+        CHECK(ps.pdf == Approx(1.f / q->area()));
+    }
+}
+
 TEST_CASE("cube: 24 vertices, outward winding and normals, face_normals", "[shapes]") {
     Ref<IShape> c = makeShape("cube");
     const TriangleMesh& m = *c->mesh();

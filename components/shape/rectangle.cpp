@@ -6,8 +6,11 @@
 // renders alike in both. Points are sampled as Mitsuba samples them, p = corner + u.x e1 +
 // u.y e2 over the placed parallelogram (uniform, and one smooth map of u, so stratified
 // samples stay stratified), instead of picking one of the two triangles: no search, no
-// square root (a rectangular light is sampled at every bounce). A to_world that is not
-// affine leaves a quad that is no parallelogram; it is sampled as the mesh.
+// square root (a rectangular light is sampled at every bounce). Hits take the plane's
+// constant normal, tangents and shading frame, computed once, instead of interpolating
+// and normalising vertex normals at every hit (walls and lights are rectangles in most
+// scenes). A to_world that is not affine leaves a quad that is no parallelogram; it is
+// sampled and shaded as the mesh.
 // Reference: Mitsuba 3 plugin documentation, "Rectangle (rectangle)".
 #include "effigi/core/registry.hpp"
 #include "effigi/render/shape_base.hpp"
@@ -49,6 +52,33 @@ public:
         const Vector3d ng = glm::cross(Vector3d(q[i[1]] - q[i[0]]), Vector3d(q[i[2]] - q[i[0]]));
         m_normal = Normal3f(ng / glm::length(ng));
         if (!(m_area > 0.f) || !isFinite(m_normal)) m_parallelogram = false;  // degenerate: the mesh's rules
+        // uv = (u, v) spans corner + u e1 + v e2, so dp/du = e1, dp/dv = e2; the shading
+        // frame is MeshShape's Gram-Schmidt of dp/du against the (constant) normal.
+        const Vector3d sd = Vector3d(m_e1) - Vector3d(m_normal) * glm::dot(Vector3d(m_normal), Vector3d(m_e1));
+        const Vector3f t = Vector3f(sd / glm::length(sd));
+        m_frame = Frame(t, cross(m_normal, t), m_normal);
+        if (!isFinite(m_frame.s) || !isFinite(m_frame.t)) m_parallelogram = false;
+    }
+
+    SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const override {
+        if (!m_parallelogram) return MeshShape::interaction(ray, hit);
+        SurfaceInteraction si;
+        const std::uint32_t* idx = &m_mesh.indices[3 * std::size_t(hit.prim)];
+        const Point3f &p0 = m_mesh.positions[idx[0]], &p1 = m_mesh.positions[idx[1]], &p2 = m_mesh.positions[idx[2]];
+        const float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
+        // As the mesh: from the barycentrics (exact on the plane), the same scale and uv.
+        si.p = b0 * p0 + b1 * p1 + b2 * p2;
+        si.pScale = std::max({maxAbsComponent(p0), maxAbsComponent(p1), maxAbsComponent(p2)});
+        si.t = hit.t;
+        si.prim = hit.prim;
+        si.primUV = hit.uv;
+        si.uv = b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];
+        si.n = m_normal;
+        si.dpdu = m_e1;
+        si.dpdv = m_e2;
+        si.shading = m_frame;
+        finish(si, ray);
+        return si;
     }
 
     PositionSample samplePosition(const Point2f& u) const override {
@@ -65,6 +95,7 @@ private:
     Point3f m_corner;
     Vector3f m_e1, m_e2;
     Normal3f m_normal;
+    Frame m_frame;
     bool m_parallelogram = false;
 };
 
