@@ -91,14 +91,18 @@ public:
 
     explicit Embree(const Properties& p) : m_robust(p.getBool("robust")) {
         const std::string batch = p.getString("batch");
-        m_batch = batch == "stream" ? Batch::Stream : batch == "single" ? Batch::Single : Batch::Packet;
         m_device = rtcNewDevice(nullptr);
         if (!m_device) fail("embree: cannot create a device (error {})", int(rtcGetDeviceError(nullptr)));
         rtcSetDeviceErrorFunction(m_device, onEmbreeError, nullptr);
         // Packets as wide as the CPU's vectors: 16 lanes need AVX-512; on an AVX2 machine
         // packets of 16 gave 4 % fewer samples/s than packets of 8 (bench/RESULTS.md).
-        m_packet16 = batch == "packet16" ||
-                     (batch == "packet" && rtcGetDeviceProperty(m_device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0);
+        const bool native16 = rtcGetDeviceProperty(m_device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0;
+        m_batch = batch == "stream"     ? Batch::Stream
+                  : batch == "single"   ? Batch::Single
+                  : batch == "packet16" ? Batch::Packet16
+                  : batch == "packet8"  ? Batch::Packet8
+                  : native16            ? Batch::Packet16
+                                        : Batch::Packet8;
     }
     ~Embree() override {
         if (m_scene) rtcReleaseScene(m_scene);
@@ -145,23 +149,23 @@ public:
     void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
         if (m_batch == Batch::Single) return IIntersect::intersect(rays, hits);
         if (m_batch == Batch::Stream) return intersectStream(rays, hits);
-        if (m_packet16) return intersectPackets<16, RTCRayHit16>(rays, hits);
+        if (m_batch == Batch::Packet16) return intersectPackets<16, RTCRayHit16>(rays, hits);
         intersectPackets<8, RTCRayHit8>(rays, hits);
     }
 
     void occluded(std::span<const Ray> rays, std::span<std::uint8_t> out) const override {
         if (m_batch == Batch::Single) return IIntersect::occluded(rays, out);
         if (m_batch == Batch::Stream) return occludedStream(rays, out);
-        if (m_packet16) return occludedPackets<16, RTCRay16>(rays, out);
+        if (m_batch == Batch::Packet16) return occludedPackets<16, RTCRay16>(rays, out);
         occludedPackets<8, RTCRay8>(rays, out);
     }
 
     BBox3f bbox() const override { return m_bbox; }
 
 private:
-    enum class Batch { Packet, Stream, Single };
+    enum class Batch { Packet8, Packet16, Stream, Single };
 
-    /// Packets of W rays (W = the CPU's native width, see m_packet16); the last packet's
+    /// Packets of W rays (8 or 16, see m_batch); the last packet's
     /// unused lanes repeat its last ray, masked off.
     template <int W, class RayHitW>
     void intersectPackets(std::span<const Ray> rays, std::span<Hit> hits) const {
@@ -284,8 +288,7 @@ private:
     }
 
     bool m_robust;
-    Batch m_batch = Batch::Packet;
-    bool m_packet16 = true;
+    Batch m_batch = Batch::Packet8;
     RTCDevice m_device = nullptr;
     RTCScene m_scene = nullptr;
     BBox3f m_bbox;

@@ -47,33 +47,25 @@ public:
         const Vector3f gap = q[2] - (q[1] + m_e2);
         const float size = std::max(maxAbsComponent(m_e1), maxAbsComponent(m_e2));
         m_parallelogram = maxAbsComponent(gap) <= 1e-5f * size;
-        // The first triangle's normal, as interaction() computes it (flip_normals included).
+        // The normal of the first triangle's winding (flip_normals included), and
+        // MeshShape's shading frame for it: dp/du = e1 (uv = (u, v) spans corner + u e1 +
+        // v e2) made orthogonal to the normal. Both in double, computed once.
         const std::uint32_t* i = m_mesh.indices.data();
         const Vector3d ng = glm::cross(Vector3d(q[i[1]] - q[i[0]]), Vector3d(q[i[2]] - q[i[0]]));
-        m_normal = Normal3f(ng / glm::length(ng));
-        if (!(m_area > 0.f) || !isFinite(m_normal)) m_parallelogram = false;  // degenerate: the mesh's rules
-        // uv = (u, v) spans corner + u e1 + v e2, so dp/du = e1, dp/dv = e2; the shading
-        // frame is MeshShape's Gram-Schmidt of dp/du against the (constant) normal.
-        const Vector3d sd = Vector3d(m_e1) - Vector3d(m_normal) * glm::dot(Vector3d(m_normal), Vector3d(m_e1));
+        const Vector3d n = ng / glm::length(ng);
+        const Vector3d sd = Vector3d(m_e1) - n * glm::dot(n, Vector3d(m_e1));
         const Vector3f t = Vector3f(sd / glm::length(sd));
-        m_frame = Frame(t, cross(m_normal, t), m_normal);
-        if (!isFinite(m_frame.s) || !isFinite(m_frame.t)) m_parallelogram = false;
+        m_frame = Frame(t, cross(Vector3f(n), t), Vector3f(n));
+        // Degenerate (zero area, a line): the mesh's rules.
+        if (!(m_area > 0.f) || !isFinite(m_frame.n) || !isFinite(m_frame.s) || !isFinite(m_frame.t))
+            m_parallelogram = false;
     }
 
     SurfaceInteraction interaction(const Ray& ray, const Hit& hit) const override {
         if (!m_parallelogram) return MeshShape::interaction(ray, hit);
         SurfaceInteraction si;
-        const std::uint32_t* idx = &m_mesh.indices[3 * std::size_t(hit.prim)];
-        const Point3f &p0 = m_mesh.positions[idx[0]], &p1 = m_mesh.positions[idx[1]], &p2 = m_mesh.positions[idx[2]];
-        const float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
-        // As the mesh: from the barycentrics (exact on the plane), the same scale and uv.
-        si.p = b0 * p0 + b1 * p1 + b2 * p2;
-        si.pScale = std::max({maxAbsComponent(p0), maxAbsComponent(p1), maxAbsComponent(p2)});
-        si.t = hit.t;
-        si.prim = hit.prim;
-        si.primUV = hit.uv;
-        si.uv = b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];
-        si.n = m_normal;
+        hitPoint(hit, si);
+        si.n = m_frame.n;
         si.dpdu = m_e1;
         si.dpdv = m_e2;
         si.shading = m_frame;
@@ -85,7 +77,7 @@ public:
         if (!m_parallelogram) return MeshShape::samplePosition(u);
         PositionSample ps;
         ps.p = m_corner + u.x * m_e1 + u.y * m_e2;
-        ps.n = m_normal;
+        ps.n = m_frame.n;
         ps.uv = u;
         ps.pdf = 1.f / m_area;
         return ps;
@@ -94,7 +86,6 @@ public:
 private:
     Point3f m_corner;
     Vector3f m_e1, m_e2;
-    Normal3f m_normal;
     Frame m_frame;
     bool m_parallelogram = false;
 };

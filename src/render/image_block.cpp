@@ -77,9 +77,11 @@ void ImageBlock::put(const Point2f& pos, const float* values) {
     const int n = stride();
     if (nx > MaxCached || ny > MaxCached) {
         for (int y = ylo; y <= yhi; ++y) {
+            const float wy = filter(float(y) + 0.5f - pos.y);
+            if (wy == 0.f) continue;
             float* row = m_data.data() + (std::size_t(y - y0) * s.x + std::size_t(xlo - x0)) * n;
             for (int x = xlo; x <= xhi; ++x, row += n)
-                addWeighted(row, values, m_channels, filter(float(y) + 0.5f - pos.y) * filter(float(x) + 0.5f - pos.x));
+                addWeighted(row, values, m_channels, wy * filter(float(x) + 0.5f - pos.x));
         }
         return;
     }

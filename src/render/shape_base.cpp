@@ -152,20 +152,30 @@ void MeshShape::setMesh(TriangleMesh mesh, const std::string& what) {
     attachEmitter();
 }
 
-SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const {
-    SurfaceInteraction si;
+const std::uint32_t* MeshShape::hitPoint(const Hit& hit, SurfaceInteraction& si) const {
     const std::uint32_t* idx = &m_mesh.indices[3 * std::size_t(hit.prim)];
     const Point3f& p0 = m_mesh.positions[idx[0]];
     const Point3f& p1 = m_mesh.positions[idx[1]];
     const Point3f& p2 = m_mesh.positions[idx[2]];
-    float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
-
+    const float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
     // From the barycentrics rather than o + t·d: exact on the triangle's plane.
     si.p = b0 * p0 + b1 * p1 + b2 * p2;
     si.pScale = std::max({maxAbsComponent(p0), maxAbsComponent(p1), maxAbsComponent(p2)});
     si.t = hit.t;
     si.prim = hit.prim;
     si.primUV = hit.uv;
+    si.uv = m_mesh.uvs.empty() ? Point2f(b1, b2)
+                               : b0 * m_mesh.uvs[idx[0]] + b1 * m_mesh.uvs[idx[1]] + b2 * m_mesh.uvs[idx[2]];
+    return idx;
+}
+
+SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const {
+    SurfaceInteraction si;
+    const std::uint32_t* idx = hitPoint(hit, si);
+    const Point3f& p0 = m_mesh.positions[idx[0]];
+    const Point3f& p1 = m_mesh.positions[idx[1]];
+    const Point3f& p2 = m_mesh.positions[idx[2]];
+    const float b1 = hit.uv.x, b2 = hit.uv.y, b0 = 1.f - b1 - b2;
     si.n = unitNormal(cross(p1 - p0, p2 - p0));
 
     Normal3f ns = si.n;
@@ -177,11 +187,10 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
 
     Vector3f s(0.f);
     if (!m_mesh.uvs.empty()) {
+        // dp/du from the two edge equations dp_i2 = du_i2 dp/du + dv_i2 dp/dv (pbrt §6.5.3).
         const Point2f& t0 = m_mesh.uvs[idx[0]];
         const Point2f& t1 = m_mesh.uvs[idx[1]];
         const Point2f& t2 = m_mesh.uvs[idx[2]];
-        si.uv = b0 * t0 + b1 * t1 + b2 * t2;
-        // dp/du from the two edge equations dp_i2 = du_i2 dp/du + dv_i2 dp/dv (pbrt §6.5.3).
         Vector2f d02 = t0 - t2, d12 = t1 - t2;
         float det = d02.x * d12.y - d02.y * d12.x;
         if (std::abs(det) > 1e-12f) {
@@ -191,7 +200,6 @@ SurfaceInteraction MeshShape::interaction(const Ray& ray, const Hit& hit) const 
             si.dpdv = (d02.x * (p1 - p2) - d12.x * (p0 - p2)) * invDet;
         }
     } else {
-        si.uv = Point2f(b1, b2);
         si.dpdu = p1 - p0;
         si.dpdv = p2 - p0;
     }

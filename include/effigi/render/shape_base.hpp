@@ -84,6 +84,10 @@ protected:
     /// Validate (errors prefixed by `what`, e.g. the file name), apply to_world,
     /// flip_normals and face_normals, build the area CDF and bounds, attach the emitter.
     void setMesh(TriangleMesh mesh, const std::string& what);
+    /// What every hit on triangle hit.prim gets alike, whatever the normals: p from the
+    /// barycentrics (exact on the triangle's plane), pScale, t, prim, primUV and uv (the
+    /// mesh's uv, else the barycentrics). Returns the triangle's three vertex indices.
+    const std::uint32_t* hitPoint(const Hit& hit, SurfaceInteraction& si) const;
 
     TriangleMesh m_mesh;
     std::vector<float> m_areaCdf;  // cumulative triangle areas (zero-area ones add nothing)
