@@ -91,7 +91,7 @@ TEST_CASE("cylinder: intersection agrees with a brute-force root search", "[shap
         float t;
         Point2f uv;
         bool got = s->intersect(ray, t, uv);
-        double tb;
+        double tb = 0.0;  // printed below even on a miss
         bool want = bruteForce(tube, ray, 8.0, tb);
         // Skip rays that graze the wall or cross near an end circle: the scan may miss
         // or find those within its resolution.

@@ -1,6 +1,7 @@
 // Spectral core: RGB upsampling round trips, wavelength sampling, CIE integration,
 // blackbodies, piecewise-linear spectra and table validation.
 #include "effigi/core/error.hpp"
+#include "effigi/math/log4.hpp"
 #include "effigi/math/rng.hpp"
 #include "effigi/spectral/cie.hpp"
 #include "effigi/spectral/colorspace.hpp"
@@ -9,6 +10,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -366,6 +369,44 @@ TEST_CASE("wavelength sampling: the closed-form pdf equals the pdf function", "[
         float lambda = effigi::warp::sampleVisibleWavelength(u, pdf);
         CHECK(lambda == Approx(effigi::warp::sampleVisibleWavelength(u)).epsilon(1e-5));
         CHECK(pdf == Approx(effigi::warp::visibleWavelengthPdf(lambda)).epsilon(2e-4));
+    }
+}
+
+TEST_CASE("wavelength sampling: log4 is within one ulp of the logarithm", "[spectral]") {
+    // Every 37th float of [0.01, 20) (the samplers pass 0.0149 ... 12.98), against log in
+    // double, in units of the float spacing at the exact value. Measured 0.82 ulp (libm's
+    // logf: 0.81 on the same points).
+    double worst = 0.0;
+    float at = 0.f;
+    for (float x = 0.01f; x < 20.f;) {
+        const double exact = std::log(double(x));
+        const float ef = float(exact);
+        const double ulp = double(std::nextafter(ef, INFINITY)) - double(ef);
+        const double err = std::abs(double(effigi::log4(effigi::Float4{x, x, x, x})[0]) - exact) / ulp;
+        if (err > worst) worst = err, at = x;
+        std::uint32_t b;
+        std::memcpy(&b, &x, sizeof b);
+        b += 37;
+        std::memcpy(&x, &b, sizeof x);
+    }
+    INFO("worst " << worst << " ulp at x = " << at);
+    CHECK(worst <= 1.0);
+}
+
+TEST_CASE("wavelength sampling: the four-wide sampleVisible is the scalar warp", "[spectral]") {
+    // The same arithmetic but log4 for std::log: pdfs equal exactly, wavelengths within
+    // 1e-4 nm (one ulp of the log is at most 3.3e-5 nm of wavelength).
+    for (int k = 0; k <= 2000; ++k) {
+        const float u = std::min(k / 2000.f, effigi::OneMinusEpsilon);
+        const effigi::SampledWavelengths w = effigi::SampledWavelengths::sampleVisible(u);
+        for (int i = 0; i < effigi::NSpectrumSamples; ++i) {
+            float up = u + float(i) / effigi::NSpectrumSamples, pdf;
+            if (up > 1.f) up -= 1.f;
+            const float lambda = effigi::warp::sampleVisibleWavelength(up, pdf);
+            CHECK(w.pdf()[i] == pdf);
+            CHECK(w[i] == Approx(lambda).margin(1e-4));
+            CHECK(w.d65(i) == effigi::cie::lookup(effigi::cie::D65, w[i]));
+        }
     }
 }
 

@@ -243,7 +243,7 @@ private:
             float s = 0.f;
             for (int k = 0; k < 4; ++k)
                 if (w[k] > 0.f && c[k]->scale > 0.f) s += w[k] * c[k]->poly(lambda[i]);
-            L[i] = s * scale * m_scale * cie::lookup(cie::D65, lambda[i]) * m_d65Norm;
+            L[i] = s * scale * m_scale * lambda.d65(i) * m_d65Norm;
         }
         return L;
     }

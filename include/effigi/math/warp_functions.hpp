@@ -19,16 +19,16 @@ inline void sinCosQuarterPi(float t, float& s, float& c) {
 /// Concentric map of the square to the unit disk (Shirley & Chiu 1997): low distortion.
 /// φ = (π/4)(y/x) in the left and right wedges, π/2 − (π/4)(x/y) in the others, where
 /// cos φ and sin φ swap roles.
+/// The wedge is chosen by selects, not a branch: for random u a branch on it is
+/// mispredicted half the time (this runs at every diffuse bounce).
 inline Point2f squareToUniformDiskConcentric(const Point2f& u) {
-    float x = 2.f * u.x - 1.f, y = 2.f * u.y - 1.f;
+    const float x = 2.f * u.x - 1.f, y = 2.f * u.y - 1.f;
     if (x == 0.f && y == 0.f) return {0.f, 0.f};
+    const bool horizontal = std::abs(x) > std::abs(y);
+    const float r = horizontal ? x : y;
     float s, c;
-    if (std::abs(x) > std::abs(y)) {
-        sinCosQuarterPi(y / x, s, c);
-        return {x * c, x * s};
-    }
-    sinCosQuarterPi(x / y, s, c);
-    return {y * s, y * c};
+    sinCosQuarterPi((horizontal ? y : x) / r, s, c);
+    return {r * (horizontal ? c : s), r * (horizontal ? s : c)};
 }
 inline float squareToUniformDiskPdf(const Point2f& p) { return dot(p, p) <= 1.f ? InvPi : 0.f; }
 inline Point2f uniformDiskToSquareConcentric(const Point2f& p) {

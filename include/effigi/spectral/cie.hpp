@@ -3,27 +3,10 @@
 // [LambdaMin, LambdaMax]. The tables are compiled in from data/*.csv at build time
 // (see data/README.md for their source).
 #include "effigi/math/vector.hpp"
+#include "effigi/spectral/cie_tables.hpp"
 #include "effigi/spectral/wavelengths.hpp"
 
 namespace effigi::cie {
-
-inline constexpr int TableStart = 360;
-inline constexpr int TableSize = 471;  // 360..830 nm inclusive
-
-extern const float X[TableSize];
-extern const float Y[TableSize];
-extern const float Z[TableSize];
-/// CIE standard illuminant D65, relative SPD (100 at 560 nm).
-extern const float D65[TableSize];
-
-/// Piecewise-linear lookup in a 1 nm table; zero outside the table.
-inline float lookup(const float* table, float lambda) {
-    float x = lambda - float(TableStart);
-    if (!(x >= 0.f) || x > float(TableSize - 1)) return 0.f;
-    int i = std::min(int(x), TableSize - 2);
-    float t = x - float(i);
-    return (1.f - t) * table[i] + t * table[i + 1];
-}
 
 /// ∫ ȳ(λ) dλ of the piecewise-linear table (trapezoid rule = exact for it).
 float yIntegral();

@@ -69,7 +69,7 @@ public:
             }
 #endif
             if (m_illuminant)
-                for (int i = 0; i < NSpectrumSamples; ++i) s[i] *= cie::lookup(cie::D65, lambda[i]) * m_d65Scale;
+                for (int i = 0; i < NSpectrumSamples; ++i) s[i] *= lambda.d65(i) * m_d65Scale;
             return s;
         }
         for (int i = 0; i < NSpectrumSamples; ++i) s[i] = (*this)(lambda[i]);

@@ -1,10 +1,13 @@
 #pragma once
 // Hero-wavelength spectral sampling (Wilkie et al. 2014): every path carries four
 // wavelengths, the first drawn by importance, the others rotated through the range.
+#include "effigi/math/log4.hpp"
 #include "effigi/math/warp_functions.hpp"
+#include "effigi/spectral/cie_tables.hpp"
 
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace effigi {
 
@@ -83,13 +86,19 @@ inline SampledSpectrum clampZero(SampledSpectrum s) {
 class SampledWavelengths {
 public:
     /// Visible-range importance sampling with stratified secondary wavelengths.
+    /// The four at once: warp::sampleVisibleWavelength(u, pdf) with log4 for its log
+    /// (tests/test_spectral.cpp checks that both agree).
     static SampledWavelengths sampleVisible(float u) {
+        static_assert(NSpectrumSamples == 4);
+        Float4 up = u + Float4{0.f, 0.25f, 0.5f, 0.75f};  // u + i / NSpectrumSamples
+        up = up > 1.f ? up - 1.f : up;
+        const Float4 a = 0.85691062f - 1.82750197f * up;
+        const Float4 pdf = 0.0039398042f * (1.f - a * a);
+        const Float4 lambda = 538.f - 69.4444444f * log4((1.f + a) / (1.f - a));
         SampledWavelengths w;
-        for (int i = 0; i < NSpectrumSamples; ++i) {
-            float up = u + float(i) / NSpectrumSamples;
-            if (up > 1.f) up -= 1.f;
-            w.m_lambda[i] = warp::sampleVisibleWavelength(up, w.m_pdf[i]);
-        }
+        std::memcpy(w.m_lambda.data(), &lambda, sizeof lambda);
+        std::memcpy(w.m_pdf.data(), &pdf, sizeof pdf);
+        w.lookUpD65();
         return w;
     }
     /// Uniform over [LambdaMin, LambdaMax], stratified the same way.
@@ -103,6 +112,7 @@ public:
             w.m_lambda[i] = l;
             w.m_pdf[i] = 1.f / (LambdaMax - LambdaMin);
         }
+        w.lookUpD65();
         return w;
     }
     /// Four given wavelengths with given pdfs (a cache that traces fixed wavelength nodes,
@@ -112,6 +122,7 @@ public:
         SampledWavelengths w;
         w.m_lambda = lambda;
         w.m_pdf = pdf;
+        w.lookUpD65();
         return w;
     }
     /// The same wavelength in every slot (tests, single-λ queries).
@@ -119,11 +130,16 @@ public:
         SampledWavelengths w;
         w.m_lambda.fill(lambda);
         w.m_pdf.fill(1.f);
+        w.lookUpD65();
         return w;
     }
 
     float operator[](int i) const { return m_lambda[i]; }
     SampledSpectrum pdf() const { return {m_pdf[0], m_pdf[1], m_pdf[2], m_pdf[3]}; }
+    /// The CIE D65 table (relative, 100 at 560 nm; cie::D65) at wavelength i. Every RGB
+    /// illuminant evaluation multiplies by it, several times per path segment, so it is
+    /// looked up once when the wavelengths are drawn (bench/RESULTS.md, 2026-11-29).
+    float d65(int i) const { return m_d65[i]; }
 
     /// Keep only the hero wavelength (e.g. at a dispersive interface); its pdf absorbs
     /// the probability of having drawn any of the four.
@@ -139,8 +155,14 @@ public:
     }
 
 private:
+    /// Every factory ends here: m_d65 for the wavelengths it chose.
+    void lookUpD65() {
+        for (int i = 0; i < NSpectrumSamples; ++i) m_d65[i] = cie::lookup(cie::D65, m_lambda[i]);
+    }
+
     std::array<float, NSpectrumSamples> m_lambda{};
     std::array<float, NSpectrumSamples> m_pdf{};
+    std::array<float, NSpectrumSamples> m_d65{};  ///< cie::D65 at m_lambda (0 outside its table)
 };
 
 } // namespace effigi
