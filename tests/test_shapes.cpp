@@ -7,6 +7,7 @@
 #include "effigi/math/warp_functions.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 using namespace effigi;
@@ -143,6 +144,29 @@ TEST_CASE("rectangle: the plane's constant frame agrees with its parametrisation
         CHECK(length(ps.n) == Approx(1.f));
         CHECK(ps.pdf == Approx(1.f / q->area()));
     }
+}
+
+TEST_CASE("rectangle: solid-angle samples keep a finite density at tiny and huge scales", "[shapes]") {
+    // p_ω = p_A d² / |cos θ_light| (IShape::sampleDirection) for small lights seen from
+    // far away and large ones from close by, against the same formula in double. A small
+    // light 1e12 away has p_ω near 1e30: forming d² · dist first would overflow there.
+    for (float size : {1e-3f, 1.f, 1e3f})
+        for (float dist : {1e-3f, 1.f, 1e6f, 1e12f}) {
+            Properties p("shape", "rectangle");
+            p.set("to_world", Transform::scale({size, size, size}));
+            Ref<IShape> r = makeShape("rectangle", p);
+            const Point3f ref = dist * Point3f(0.3f, 0.2f, 1.f);
+            for (const Point2f u : {Point2f(0.5f, 0.5f), Point2f(0.1f, 0.9f), Point2f(0.99f, 0.02f)}) {
+                const DirectionSample ds = r->sampleDirection(ref, u);
+                const glm::dvec3 d = glm::dvec3(ds.p) - glm::dvec3(ref);
+                const double d2 = glm::dot(d, d), cosLight = std::abs(d.z) / std::sqrt(d2);
+                const double expected = d2 / (double(r->area()) * cosLight);
+                INFO("size " << size << " distance " << dist << ": pdf " << ds.pdf << ", expected " << expected);
+                CHECK(std::isfinite(ds.pdf));
+                CHECK(double(ds.pdf) == Approx(expected).epsilon(1e-4));
+                CHECK(double(ds.dist) == Approx(std::sqrt(d2)).epsilon(1e-5));
+            }
+        }
 }
 
 TEST_CASE("cube: 24 vertices, outward winding and normals, face_normals", "[shapes]") {

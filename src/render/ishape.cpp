@@ -18,14 +18,15 @@ DirectionSample IShape::sampleDirection(const Point3f& ref, const Point2f& u) co
     Vector3f d = ps.p - ref;
     float d2 = dot(d, d);
     if (!(d2 > 0.f) || !(ps.pdf > 0.f)) return ds;
-    // |cos θ_light| · dist = |n · d|: the density needs neither the square root nor the
-    // unit direction first, so the three run side by side (this runs once per light
+    // 1 / |cos θ_light| = dist / |n · d|: the density does not wait for the unit
+    // direction, so its divide runs beside the direction's (this runs once per light
     // sample; the chain sqrt → divide → dot → divide was 5 % of a Cornell box render).
+    // dist / |n · d| ≥ 1 is formed first so that d² · dist cannot overflow at huge scales.
     ds.dist = std::sqrt(d2);
     ds.wi = d * (1.f / ds.dist);
     const float cosDist = absDot(ps.n, d);
     if (!(cosDist > 0.f)) return ds;
-    ds.pdf = ps.pdf * d2 * ds.dist / cosDist;
+    ds.pdf = ps.pdf * d2 * (ds.dist / cosDist);
     if (!std::isfinite(ds.pdf)) ds.pdf = 0.f;
     return ds;
 }
