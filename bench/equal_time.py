@@ -122,6 +122,7 @@ def main():
     print("| scene | renderer | spp | render s | process s | M samples/s | effigi / Mitsuba samples/s "
           "| relMSE (equal spp) | effigi relMSE at Mitsuba's render time | relMSE effigi / Mitsuba at equal time |")
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    pairs = []  # per scene and variant: the samples/s ratio of each back-to-back pair
     for name in args.scenes.split(","):
         scene, ref_path = SCENES[name]
         if args.robust != "default":
@@ -159,8 +160,17 @@ def main():
             print(f"| {name} | mitsuba {v} | {args.spp} | {mi_sec:.2f} | {mi_proc:.2f} | {samples / mi_sec / 1e6:.3f} "
                   f"| | {mi_err:.3g} | {eq_err:.3g} | **{eq_err / mi_err:.2f}** |")
             sys.stdout.flush()
+            pairs.append((name, v, [mr[0] / ef[0] for ef, mr in runs]))
         if args.robust != "default":
             scene.unlink()
+    # On a shared machine whole runs slow down together; the ratio within each pair is
+    # what the table's ratio of medians estimates, and its spread shows how far to trust it.
+    print("\neffigi / Mitsuba samples/s in each back-to-back pair:\n")
+    for name, v, r in pairs:
+        spread = (max(r) - min(r)) / statistics.median(r)
+        print(f"- {name}, {v}: {' '.join(f'{x:.2f}' for x in r)} (median {statistics.median(r):.2f}, "
+              f"spread {100 * spread:.0f} %)")
+    print(f"\nload average after: {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
