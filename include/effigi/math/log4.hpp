@@ -8,7 +8,7 @@
 // and Programs for Mathematical Functions", 1989; the coefficients of its logf);
 // e · ln 2 is added in two parts (a short high part that multiplies e exactly).
 // Domain: positive, finite, normal floats (what the callers pass); no special cases.
-// Accuracy: tests/test_spectral.cpp measures the largest error against log in double.
+// Accuracy: tests/test_wavelengths.cpp measures the largest error against log in double.
 #include <cstdint>
 #include <cstring>
 

@@ -87,7 +87,7 @@ class SampledWavelengths {
 public:
     /// Visible-range importance sampling with stratified secondary wavelengths.
     /// The four at once: warp::sampleVisibleWavelength(u, pdf) with log4 for its log
-    /// (tests/test_spectral.cpp checks that both agree).
+    /// (tests/test_wavelengths.cpp checks that both agree).
     static SampledWavelengths sampleVisible(float u) {
         static_assert(NSpectrumSamples == 4);
         Float4 up = u + Float4{0.f, 0.25f, 0.5f, 0.75f};  // u + i / NSpectrumSamples
