@@ -11,14 +11,14 @@
 // loses 0.4 % of its light through cracks (tests/test_mirror_render.cpp); batch (packet |
 // packet8 | packet16 | stream | single): packet is 16 wide where the CPU has AVX-512, else 8;
 // bvh (two-level | flat): one BVH per shape under a top-level BVH over the shapes (Embree's
-// two-level builder, chosen by scene build quality "low"; each shape's BVH is built at
-// Embree's default geometry quality, "medium": SAH),
-// or one BVH over every triangle of the scene (build quality "high": SAH with spatial
-// splits). Two-level is the default: on scenes made of a few large shapes (the Cornell
-// boxes: walls, boxes, a light) a flat BVH's leaves mix triangles of different walls under
-// boxes as large as the room, so a ray tests most of the scene; per-shape BVHs keep each
-// wall in its own tight box. Measured +20 % samples/s there, and the same speed and build
-// time on a 10^6-triangle mesh (bench/RESULTS.md, 2026-11-29).
+// two-level builder, which scene build quality "low" selects; each shape's BVH is built at
+// Embree's default geometry quality, "medium": SAH), or one BVH over every triangle of the
+// scene (quality "high": SAH with spatial splits; what Mitsuba 3 builds). Two-level is the
+// default by measurement: +20 % samples/s on the Cornell box, +18 % on the glossy one; on a
+// 10^7-triangle mesh as fast to trace, up to 8 % longer to load (bench/RESULTS.md,
+// 2026-11-29). The likely reason: in a scene of a few large shapes (walls, boxes, a light)
+// a flat BVH's leaves mix triangles of different walls under boxes as large as the room,
+// while per-shape BVHs keep each wall in its own tight box.
 // Reference: Wald et al. 2014, "Embree: A Kernel Framework for Efficient CPU Ray Tracing",
 // ACM TOG 33(4).
 #include "effigi/core/log.hpp"
