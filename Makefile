@@ -40,7 +40,7 @@ test-sanitize: deps
 # input (libFuzzer), not at exit: LeakSanitizer's exit check can crash on the worker threads
 # (TBB, Embree) still alive then, which would count as a finding of an empty input.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS ?= xml obj ply spd image serialized vol rib
+FUZZ_TARGETS ?= xml obj ply spd image serialized vol rib checkpoint
 FUZZ_FLAGS ?= -timeout=10 -rss_limit_mb=2048
 fuzz: deps
 	@test -f build/fuzz/build.ninja || cmake --preset fuzz

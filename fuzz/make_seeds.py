@@ -263,8 +263,27 @@ def xml_dict():
     return len(words)
 
 
+# ---- checkpoints ---------------------------------------------------------------------------
+def checkpoint_seeds():
+    """A checkpoint of fuzz/checkpoint_scene.xml as effigi writes it, whole and as a bare
+    payload (the target frames inputs without the magic with a valid header). Needs a
+    built effigi (build/release/bin/effigi); skipped without one."""
+    import subprocess
+    import tempfile
+    effigi = ROOT / "build/release/bin/effigi"
+    if not effigi.exists():
+        print("checkpoint: no build/release/bin/effigi, seeds not written")
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run([str(effigi), "render", str(FUZZ / "checkpoint_scene.xml"), "-o", f"{tmp}/out.exr",
+                        "--no-progress", "--checkpoint", f"{tmp}/cp"], check=True, capture_output=True)
+        data = (pathlib.Path(tmp) / "cp/checkpoint.effigi").read_bytes()
+    write("checkpoint", "render-8px.effigi", data)
+    write("checkpoint", "render-8px.payload", data[32:])  # header: magic, version, 0, length, checksum
+
+
 def main():
-    for t in ("ply", "obj", "serialized", "spd", "vol", "image", "xml"):
+    for t in ("ply", "obj", "serialized", "spd", "vol", "image", "xml", "checkpoint"):
         (CORPUS / t).mkdir(parents=True, exist_ok=True)
     ply_seeds()
     obj_seeds()
@@ -273,6 +292,7 @@ def main():
     vol_seeds()
     image_seeds()
     xml_seeds()
+    checkpoint_seeds()
     print(f"xml.dict: {xml_dict()} words")
     for d in sorted(CORPUS.iterdir()):
         files = sorted(d.iterdir())

@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -113,6 +114,37 @@ TEST_CASE("checkpoint: a file round-trips and damage is refused in one line", "[
     CHECK_THAT(errorOf(dir), Catch::Contains("not a valid effigi checkpoint"));
     fs::remove(checkpointFile(dir));
     CHECK_THAT(errorOf(dir), Catch::Contains("no checkpoint there"));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("checkpoint: empty arrays round-trip and values no render writes are refused", "[checkpoint]") {
+    const fs::path dir = tempDir("checkpoint-values");
+    // Empty arrays (a film without double sums, a renderer without sums): their data() may
+    // be null, which memcpy must not be given even for 0 bytes (UBSan, 2026-11-29).
+    Checkpoint c = stamped(3, 0);
+    c.processSpp.clear();
+    writeCheckpoint(dir, c);
+    Checkpoint r = readCheckpoint(dir);
+    CHECK(r.film.floats.empty());
+    CHECK(r.renderer.doubles.empty());
+    CHECK(r.processSpp.empty());
+
+    // The checksum passes (the file is framed by writeCheckpoint), the values cannot be.
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 6; ++k) {
+        Checkpoint bad = stamped(5, 16);
+        if (k == 0) bad.timeBudget = nan;
+        if (k == 1) bad.targetRelMSE = -1.0;
+        if (k == 2) bad.report.seconds = inf;
+        if (k == 3) bad.film.floats[3] = float(inf);
+        if (k == 4) bad.renderer.doubles[1] = nan;
+        if (k == 5) bad.film.floats[15] = -float(nan);
+        writeCheckpoint(dir, bad);
+        const std::string e = errorOf(dir);
+        INFO("case " << k << ": " << e);
+        CHECK_THAT(e, Catch::Contains("not a valid effigi checkpoint") && Catch::Contains("checkpoint.effigi"));
+        CHECK(e.find('\n') == std::string::npos);
+    }
     fs::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
 #include "render_checkpoint.hpp"
 
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/interfaces/iaccumulator.hpp"
 #include "effigi/interfaces/ifilm.hpp"
 
@@ -41,7 +42,7 @@ std::vector<double> readResume(const std::filesystem::path& dir, const Scene& sc
     if (c.identity != base.identity)
         fail("cannot resume from {}: its checkpoint was written for another scene or other options ({}, with "
              "other -D values or --seed), not for {}",
-             dir.string(), c.scene, base.scene);
+             dir.string(), excerpt(c.scene, 200), base.scene);
     accumulator(scene.camera().film()).loadSums(c.film);
     accumulator(scene.renderer()).loadSums(c.renderer);
     // spp, seconds, samples, rejected, the budget, then each rank's sample count.

@@ -4,6 +4,7 @@
 // the weighted averages (Mitchell & Netravali 1988) converted to the film's pixel format
 // and colour space. Header-only because components/film/*.cpp each become a module.
 #include "effigi/core/error.hpp"
+#include "effigi/core/input.hpp"
 #include "effigi/core/log.hpp"
 #include "effigi/interfaces/iaccumulator.hpp"
 #include "effigi/interfaces/ifilm.hpp"
@@ -133,7 +134,8 @@ public:
         const std::string head = fmt::format("film {}x{}", m_size.x, m_size.y);
         std::size_t at = s.layout.find('\n');
         if (s.layout.substr(0, at) != head)
-            fail("film: the saved sums are of another film ('{}', this is '{}')", s.layout.substr(0, at), head);
+            fail("film: the saved sums are of another film ('{}', this is '{}')", excerpt(s.layout.substr(0, at)),
+                 head);
         while (at != std::string::npos) {
             const std::size_t next = s.layout.find('\n', at + 1);
             channels.push_back(s.layout.substr(at + 1, next == std::string::npos ? next : next - at - 1));

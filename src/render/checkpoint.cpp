@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -70,7 +71,8 @@ public:
         const std::uint64_t n = get<std::uint64_t>();
         if (n > m_in.size() / sizeof(T)) bad("an array longer than the file");
         v.resize(n);
-        std::memcpy(v.data(), take(n * sizeof(T)), n * sizeof(T));
+        const char* bytes = take(n * sizeof(T));
+        if (n != 0) std::memcpy(v.data(), bytes, n * sizeof(T));  // an empty vector's data() may be null
     }
     void get(AccumulatorSums& s) { get(s.layout), get(s.floats), get(s.doubles); }
     bool done() const { return m_in.empty(); }
@@ -128,11 +130,7 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     w.put(c.report.spp), w.put(c.report.seconds), w.put(c.report.stats.samples), w.put(c.report.stats.rejectedSamples);
     w.put(c.processSpp);
     w.put(c.film), w.put(c.renderer);
-    const std::string& payload = w.bytes();
-
-    std::string header(Magic, sizeof Magic);
-    auto append = [&](auto v) { header.append(reinterpret_cast<const char*>(&v), sizeof v); };
-    append(FormatVersion), append(std::uint32_t(0)), append(std::uint64_t(payload.size())), append(checksum(payload));
+    const std::string bytes = checkpointFileBytes(w.bytes());
 
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -141,8 +139,7 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) writeFailed(tmp, "open");
     try {
-        writeAll(fd, header, tmp);
-        writeAll(fd, payload, tmp);
+        writeAll(fd, bytes, tmp);
         if (::fsync(fd) != 0) writeFailed(tmp, "fsync");
     } catch (...) {
         ::close(fd);
@@ -159,7 +156,15 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     // The rename itself reaches the disk with the directory.
     const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) ::fsync(dfd), ::close(dfd);
-    return header.size() + payload.size();
+    return bytes.size();
+}
+
+std::string checkpointFileBytes(std::string_view payload) {
+    std::string bytes(Magic, sizeof Magic);
+    auto append = [&](auto v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); };
+    append(FormatVersion), append(std::uint32_t(0)), append(std::uint64_t(payload.size())), append(checksum(payload));
+    bytes += payload;
+    return bytes;
 }
 
 Checkpoint readCheckpoint(const std::filesystem::path& dir) {
@@ -196,6 +201,16 @@ Checkpoint readCheckpoint(const std::filesystem::path& dir) {
     r.get(c.processSpp);
     r.get(c.film), r.get(c.renderer);
     if (!r.done()) r.bad("bytes after its last field");
+    // A render writes finite, non-negative times and finite sums: anything else was made
+    // by hand (the checksum passed), and would reach the progress and the image.
+    for (double v : {c.timeBudget, c.targetRelMSE, c.report.seconds})
+        if (!(v >= 0.0 && std::isfinite(v))) r.bad("a time or budget that is negative or not finite");
+    for (const AccumulatorSums* s : {&c.film, &c.renderer}) {
+        for (float v : s->floats)
+            if (!std::isfinite(v)) r.bad("a sum that is not finite");
+        for (double v : s->doubles)
+            if (!std::isfinite(v)) r.bad("a sum that is not finite");
+    }
     return c;
 }
 

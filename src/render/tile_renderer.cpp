@@ -1,5 +1,6 @@
 #include "effigi/render/tile_renderer.hpp"
 
+#include "effigi/core/input.hpp"
 #include "effigi/core/progress.hpp"
 #include "effigi/core/registry.hpp"
 #include "effigi/render/image_metrics.hpp"
@@ -197,7 +198,8 @@ void PixelVariance::loadSums(const AccumulatorSums& s) {
     if (std::sscanf(s.layout.c_str(), "pixel variance %dx%d", &w, &h) != 2 || w <= 0 || h <= 0 ||
         s.layout != fmt::format("pixel variance {}x{}", w, h) || s.doubles.size() != 7 * std::size_t(w) * h ||
         !s.floats.empty())
-        fail("renderer: saved error statistics of an unknown layout ('{}', {} values)", s.layout, s.doubles.size());
+        fail("renderer: saved error statistics of an unknown layout ('{}', {} values)", excerpt(s.layout),
+             s.doubles.size());
     const std::size_t pixels = std::size_t(w) * std::size_t(h);
     m_pixels.assign(pixels, Pixel{});
     m_width = w;

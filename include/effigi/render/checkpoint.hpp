@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace effigi {
@@ -51,7 +52,14 @@ std::filesystem::path checkpointFile(const std::filesystem::path& dir);
 std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint& c);
 
 /// Read the checkpoint of `dir`. Throws effigi::Error naming the file when it is missing,
-/// not a checkpoint, of another format version, truncated or damaged (checksum).
+/// not a checkpoint, of another format version, truncated or damaged (checksum), or when
+/// its fields cannot be what a render wrote (a length past the end, a time or budget that
+/// is negative or not finite, a sum that is not finite).
 Checkpoint readCheckpoint(const std::filesystem::path& dir);
+
+/// The bytes of a checkpoint file holding `payload`: the header (magic, version, length,
+/// checksum) and the payload. writeCheckpoint writes this; the fuzz target frames its
+/// inputs with it so that they reach the field parser behind the checksum.
+std::string checkpointFileBytes(std::string_view payload);
 
 } // namespace effigi
