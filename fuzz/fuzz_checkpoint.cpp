@@ -4,7 +4,7 @@
 // Why: a checkpoint is a binary file of lengths and arrays. Its checksum refuses a file
 // damaged by accident, so mutated whole files mostly stop there; to reach the fields
 // behind it, an input that does not start with the magic "EFFIGICK" is taken as a payload
-// and framed with a valid header (checkpointFileBytes). Then the film's and the renderer's
+// and framed with a valid header (checkpointHeader). Then the film's and the renderer's
 // sums are loaded into those of a small scene (fuzz/checkpoint_scene.xml, as the resume
 // does after the identity check), and the film is developed: its pixels must be finite.
 #include "fuzz_common.hpp"
@@ -47,7 +47,8 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::filesystem::path& dir = fuzz::scratchDir("checkpoint");
     const std::string_view input(reinterpret_cast<const char*>(data), size);
-    const std::string file = input.starts_with("EFFIGICK") ? std::string(input) : checkpointFileBytes(input);
+    std::string file(input);
+    if (!input.starts_with("EFFIGICK")) file.insert(0, checkpointHeader(input));
     fuzz::writeInput(checkpointFile(dir), reinterpret_cast<const std::uint8_t*>(file.data()), file.size());
     fuzz::expectCleanRejection([&] {
         const Checkpoint c = readCheckpoint(dir);

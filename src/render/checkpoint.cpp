@@ -130,7 +130,8 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     w.put(c.report.spp), w.put(c.report.seconds), w.put(c.report.stats.samples), w.put(c.report.stats.rejectedSamples);
     w.put(c.processSpp);
     w.put(c.film), w.put(c.renderer);
-    const std::string bytes = checkpointFileBytes(w.bytes());
+    const std::string& payload = w.bytes();
+    const std::string header = checkpointHeader(payload);  // written apart: a film's payload can be large
 
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -139,7 +140,8 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd < 0) writeFailed(tmp, "open");
     try {
-        writeAll(fd, bytes, tmp);
+        writeAll(fd, header, tmp);
+        writeAll(fd, payload, tmp);
         if (::fsync(fd) != 0) writeFailed(tmp, "fsync");
     } catch (...) {
         ::close(fd);
@@ -156,15 +158,14 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
     // The rename itself reaches the disk with the directory.
     const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) ::fsync(dfd), ::close(dfd);
-    return bytes.size();
+    return header.size() + payload.size();
 }
 
-std::string checkpointFileBytes(std::string_view payload) {
-    std::string bytes(Magic, sizeof Magic);
-    auto append = [&](auto v) { bytes.append(reinterpret_cast<const char*>(&v), sizeof v); };
+std::string checkpointHeader(std::string_view payload) {
+    std::string header(Magic, sizeof Magic);
+    auto append = [&](auto v) { header.append(reinterpret_cast<const char*>(&v), sizeof v); };
     append(FormatVersion), append(std::uint32_t(0)), append(std::uint64_t(payload.size())), append(checksum(payload));
-    bytes += payload;
-    return bytes;
+    return header;
 }
 
 Checkpoint readCheckpoint(const std::filesystem::path& dir) {

@@ -57,9 +57,9 @@ std::uint64_t writeCheckpoint(const std::filesystem::path& dir, const Checkpoint
 /// is negative or not finite, a sum that is not finite).
 Checkpoint readCheckpoint(const std::filesystem::path& dir);
 
-/// The bytes of a checkpoint file holding `payload`: the header (magic, version, length,
-/// checksum) and the payload. writeCheckpoint writes this; the fuzz target frames its
-/// inputs with it so that they reach the field parser behind the checksum.
-std::string checkpointFileBytes(std::string_view payload);
+/// The header of a checkpoint file holding `payload` (magic, version, length, checksum),
+/// which the payload follows. writeCheckpoint writes it; the fuzz target frames its inputs
+/// with it so that they reach the field parser behind the checksum.
+std::string checkpointHeader(std::string_view payload);
 
 } // namespace effigi
