@@ -15,7 +15,7 @@
 // Embree's default geometry quality, "medium": SAH), or one BVH over every triangle of the
 // scene (quality "high": SAH with spatial splits; what Mitsuba 3 builds). Two-level is the
 // default by measurement: +20 % samples/s on the Cornell box, +18 % on the glossy one; on a
-// 10^7-triangle mesh as fast to trace, up to 8 % longer to load (bench/RESULTS.md,
+// 10^7-triangle mesh as fast to trace, up to 9 % longer to load (bench/RESULTS.md,
 // 2026-11-29). The likely reason: in a scene of a few large shapes (walls, boxes, a light)
 // a flat BVH's leaves mix triangles of different walls under boxes as large as the room,
 // while per-shape BVHs keep each wall in its own tight box.
